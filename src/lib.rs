@@ -1,0 +1,65 @@
+//! # bevy_burning_cloth
+//!
+//! Cloth that burns, for the Bevy game engine: a mass-spring cloth (structural, shear and
+//! bending springs, Provot's stretch limit) whose particles heat up, ignite, shrink their
+//! springs, and burn away, after Loshak & Killian, *Simulating Burning Cloth*.
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use bevy_burning_cloth::prelude::*;
+//!
+//! fn spawn(mut commands: Commands) {
+//!     let cloth = commands
+//!         .spawn((
+//!             ClothBuilder::grid(32, 32, 0.03).pin_top_corners(),
+//!             BurnMaterial::SILK,
+//!             Transform::from_xyz(0.0, 2.0, 0.0),
+//!         ))
+//!         .id();
+//!     // Later, from gameplay: set it alight near its bottom corner.
+//!     commands.trigger(Ignite::at_world_point(cloth, Vec3::new(0.4, 1.1, 0.0)));
+//! }
+//!
+//! App::new()
+//!     .add_plugins((MinimalPlugins, BurningClothPlugins::default()))
+//!     .add_systems(Startup, spawn)
+//!     .run();
+//! ```
+//!
+//! ## Layers
+//! - [`sim`]: the physics, plain Rust over slices, testable without an `App`.
+//! - [`plugin`]: components, events, system sets; thin systems over [`sim`].
+//! - `render` (feature `render`): the dynamic mesh and click-to-ignite.
+//!
+//! ## Units
+//! Metres, kilograms, seconds, degrees Celsius. The paper's Fahrenheit thresholds are
+//! converted once, in [`sim::material`].
+//!
+//! ## Cargo features
+//! - `render` (default): draw cloths with Bevy's renderer. Without it nothing of Bevy's
+//!   renderer is compiled and the simulation runs headless.
+
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+// Bevy system queries are tuples by design; naming each one would hide what a system reads.
+#![allow(clippy::type_complexity)]
+
+pub mod plugin;
+#[cfg(feature = "render")]
+pub mod render;
+pub mod sim;
+
+/// The types most users need.
+pub mod prelude {
+    pub use crate::plugin::{
+        BurningClothPlugins, BurningClothSystems, ClothBurntOut, ClothEnvironment, ClothIgnited,
+        ClothParticles, ClothSimulationPlugin, ClothSolver, ClothSprings, ClothStatus,
+        ClothSubstepSystems, ClothTopology, Ignite, IgniteAt,
+    };
+    #[cfg(feature = "render")]
+    pub use crate::render::ClothRenderPlugin;
+    pub use crate::sim::{
+        BurnMaterial, BurnState, ClothBuilder, ClothError, GridPlane, Integrator, ProvotSettings,
+        SolverSettings,
+    };
+}

@@ -1,0 +1,105 @@
+//! Components of a cloth entity. The simulation data lives here; particles are not entities.
+
+use crate::sim::{self, BurnMaterial, ClothBuilder};
+use bevy::ecs::component::{Mutable, StorageType};
+use bevy::prelude::*;
+
+/// A cloth to build: spawn it with a [`BurnMaterial`] (default: [`BurnMaterial::CLOTH`]) and a
+/// [`Transform`]. After transforms propagate, the plugin replaces it with the simulated
+/// components ([`ClothParticles`], [`ClothSprings`], [`ClothTopology`], …). An invalid
+/// builder is logged as an error and removed.
+impl Component for ClothBuilder {
+    const STORAGE_TYPE: StorageType = StorageType::Table;
+    type Mutability = Mutable;
+}
+
+/// A cloth's material; changing it mid-burn takes effect on the next step (an invalid
+/// material is logged and the change ignored).
+impl Component for BurnMaterial {
+    const STORAGE_TYPE: StorageType = StorageType::Table;
+    type Mutability = Mutable;
+}
+
+/// The particles of a cloth: positions (world space, m), velocities, masses, temperatures
+/// (°C) and burn states, as arrays.
+#[derive(Component, Clone, Debug, Default, Deref, DerefMut)]
+pub struct ClothParticles(pub sim::Particles);
+
+/// The springs of a cloth, each stored once with its own rest length.
+#[derive(Component, Clone, Debug, Default, Deref, DerefMut)]
+pub struct ClothSprings(pub sim::Springs);
+
+/// Triangles, texture coordinates and the live index list of a cloth.
+#[derive(Component, Clone, Debug, Default, Deref, DerefMut)]
+pub struct ClothTopology(pub sim::Topology);
+
+/// How a cloth is stepped: integrator, substeps, Provot, proximity heating. Optional on a
+/// cloth entity; defaults are inserted at build time.
+#[derive(Component, Clone, Copy, Debug, Default, Deref, DerefMut)]
+pub struct ClothSolver(pub sim::SolverSettings);
+
+/// A cloth's validated settings and scratch buffers, reused every step.
+///
+/// The systems read the material, solver and environment from here: a change to
+/// [`BurnMaterial`], [`ClothSolver`] or [`ClothEnvironment`](crate::plugin::ClothEnvironment)
+/// is copied in only after it validates, so a bad value never reaches the simulation.
+#[derive(Component, Clone, Debug)]
+pub struct ClothScratch {
+    /// Buffers of the simulation phases.
+    pub workspace: sim::ClothWorkspace,
+    /// The material in use.
+    pub material: BurnMaterial,
+    /// The solver settings in use.
+    pub solver: sim::SolverSettings,
+    /// The environment in use.
+    pub environment: sim::Environment,
+    /// Force parameters of the current substep.
+    pub force_params: sim::ForceParams,
+}
+
+impl ClothScratch {
+    /// Scratch for a cloth with a validated material and solver.
+    pub fn new(material: BurnMaterial, solver: sim::SolverSettings) -> Self {
+        Self {
+            workspace: sim::ClothWorkspace::default(),
+            material,
+            solver,
+            environment: sim::Environment::default(),
+            force_params: sim::ForceParams::default(),
+        }
+    }
+}
+
+/// Live numbers about a cloth, updated every fixed step, for gameplay and UI.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct ClothStatus {
+    /// Particles in total.
+    pub particles: u32,
+    /// Particles on fire now.
+    pub ignited: u32,
+    /// Particles burnt away.
+    pub burnt: u32,
+    /// Pinned particles not burnt.
+    pub pins_left: u32,
+    /// Triangles still drawn.
+    pub live_triangles: u32,
+    /// Substeps used by the latest fixed step.
+    pub substeps: u32,
+    /// True from the first ignition until the fire goes out.
+    pub burning: bool,
+}
+
+impl ClothStatus {
+    /// Fraction of particles burnt away, in [0, 1].
+    pub fn burnt_fraction(&self) -> f32 {
+        if self.particles == 0 {
+            0.0
+        } else {
+            self.burnt as f32 / self.particles as f32
+        }
+    }
+}
+
+/// Ignitions asked for before the cloth was built; applied when it is.
+#[derive(Component, Clone, Debug, Default)]
+pub(crate) struct PendingIgnitions(pub(crate) Vec<crate::plugin::Ignite>);

@@ -1,0 +1,148 @@
+//! The ECS face of the simulation: components, events, system sets and plugins.
+//!
+//! | plugin | feature | what it adds |
+//! |---|---|---|
+//! | [`ClothSimulationPlugin`] | always | building cloths, heat, combustion, dynamics, culling, [`Ignite`] |
+//! | [`ClothRenderPlugin`](crate::render::ClothRenderPlugin) | `render` | a dynamic mesh per cloth, click to ignite |
+//!
+//! [`BurningClothPlugins`] groups them, so `.build().disable::<X>()` removes one.
+
+mod components;
+mod events;
+mod schedule;
+mod systems;
+
+pub use components::{
+    ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus, ClothTopology,
+};
+pub use events::{ClothBurntOut, ClothIgnited, Ignite, IgniteAt};
+pub use schedule::{
+    BurningClothSystems, ClothSubstepSchedule, ClothSubstepSystems, SubstepCounter,
+};
+
+use crate::sim;
+use bevy::app::PluginGroupBuilder;
+use bevy::ecs::intern::Interned;
+use bevy::ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
+use bevy::prelude::*;
+use bevy::transform::TransformSystems;
+
+/// Gravity, wind and world up for every cloth. Invalid values (NaN, infinity, zero up) are
+/// logged and the previous values kept.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Deref, DerefMut)]
+pub struct ClothEnvironment(pub sim::Environment);
+
+/// Every plugin of the crate. Add it once:
+///
+/// ```no_run
+/// use bevy::prelude::*;
+/// use bevy_burning_cloth::prelude::*;
+/// App::new()
+///     .add_plugins((MinimalPlugins, BurningClothPlugins::default()))
+///     .run();
+/// ```
+///
+/// The simulation runs in `FixedUpdate`; [`BurningClothPlugins::new`] moves it to another
+/// schedule.
+pub struct BurningClothPlugins {
+    schedule: Interned<dyn ScheduleLabel>,
+}
+
+impl BurningClothPlugins {
+    /// Runs the simulation in `schedule` instead of `FixedUpdate`.
+    pub fn new(schedule: impl ScheduleLabel) -> Self {
+        Self {
+            schedule: schedule.intern(),
+        }
+    }
+}
+
+impl Default for BurningClothPlugins {
+    fn default() -> Self {
+        Self::new(FixedUpdate)
+    }
+}
+
+impl PluginGroup for BurningClothPlugins {
+    fn build(self) -> PluginGroupBuilder {
+        let group = PluginGroupBuilder::start::<Self>().add(ClothSimulationPlugin {
+            schedule: self.schedule,
+        });
+        #[cfg(feature = "render")]
+        let group = group.add(crate::render::ClothRenderPlugin);
+        group
+    }
+}
+
+/// Builds cloths from [`ClothBuilder`](crate::sim::ClothBuilder)s and steps them: heat,
+/// combustion, dynamics in substeps, culling. Handles [`Ignite`].
+pub struct ClothSimulationPlugin {
+    /// The schedule the simulation steps in.
+    pub schedule: Interned<dyn ScheduleLabel>,
+}
+
+impl Default for ClothSimulationPlugin {
+    fn default() -> Self {
+        Self {
+            schedule: FixedUpdate.intern(),
+        }
+    }
+}
+
+impl Plugin for ClothSimulationPlugin {
+    fn build(&self, app: &mut App) {
+        if !app.is_plugin_added::<TransformPlugin>() {
+            app.add_plugins(TransformPlugin);
+        }
+        app.init_resource::<ClothEnvironment>()
+            .init_resource::<SubstepCounter>()
+            .add_observer(events::on_ignite);
+
+        let mut substep = Schedule::new(ClothSubstepSchedule);
+        substep.set_executor(SingleThreadedExecutor::new());
+        substep.configure_sets(
+            (
+                ClothSubstepSystems::Forces,
+                ClothSubstepSystems::Integrate,
+                ClothSubstepSystems::Constrain,
+            )
+                .chain(),
+        );
+        substep.add_systems((
+            systems::prepare_forces.in_set(ClothSubstepSystems::Forces),
+            systems::integrate_cloths.in_set(ClothSubstepSystems::Integrate),
+            systems::constrain_cloths.in_set(ClothSubstepSystems::Constrain),
+        ));
+        app.add_schedule(substep);
+
+        let has_cloth = any_with_component::<ClothParticles>;
+        app.configure_sets(
+            self.schedule,
+            (
+                BurningClothSystems::Prepare,
+                BurningClothSystems::Heat,
+                BurningClothSystems::Combust,
+                BurningClothSystems::Simulate,
+                BurningClothSystems::Cull,
+            )
+                .chain()
+                .run_if(has_cloth),
+        )
+        .add_systems(
+            self.schedule,
+            (
+                systems::prepare_cloths.in_set(BurningClothSystems::Prepare),
+                systems::spread_heat.in_set(BurningClothSystems::Heat),
+                systems::combust.in_set(BurningClothSystems::Combust),
+                systems::run_substeps.in_set(BurningClothSystems::Simulate),
+                systems::cull_cloths.in_set(BurningClothSystems::Cull),
+            ),
+        )
+        .add_systems(
+            PostUpdate,
+            systems::build_cloths
+                .after(TransformSystems::Propagate)
+                .run_if(any_with_component::<sim::ClothBuilder>),
+        );
+    }
+}

@@ -1,0 +1,290 @@
+//! The simulation systems: each is a thin loop over cloths calling a phase of
+//! [`crate::sim::cloth`].
+
+use super::ClothEnvironment;
+use super::components::{
+    ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus, ClothTopology,
+    PendingIgnitions,
+};
+use super::events::{ClothBurntOut, ClothIgnited, apply_ignition};
+use super::schedule::{ClothSubstepSchedule, SubstepCounter};
+use crate::sim::cloth::{
+    combust_phase, constrain_phase, cull_phase, force_params, heat_params, heat_phase,
+    integrate_phase,
+};
+use crate::sim::integrate::drive_pins;
+use crate::sim::{BurnMaterial, BurnState, ClothBuilder};
+use bevy::prelude::*;
+
+/// Builds the simulation components of every new or changed [`ClothBuilder`].
+pub(crate) fn build_cloths(
+    mut commands: Commands,
+    builders: Query<
+        (
+            Entity,
+            &ClothBuilder,
+            Option<&BurnMaterial>,
+            Option<&ClothSolver>,
+            &GlobalTransform,
+            Option<&PendingIgnitions>,
+        ),
+        Changed<ClothBuilder>,
+    >,
+) {
+    for (entity, builder, material, solver, transform, pending) in &builders {
+        let material = material.copied().unwrap_or_default();
+        let solver = solver.copied().unwrap_or_default();
+        if let Err(error) = solver.validate() {
+            error!("cloth {entity} not built: {error}");
+            continue;
+        }
+        let parts = match builder.build(&material, transform.affine()) {
+            Ok(parts) => parts,
+            Err(error) => {
+                error!("cloth {entity} not built: {error}");
+                continue;
+            }
+        };
+        let mut particles = ClothParticles(parts.particles);
+        for ignite in pending.iter().flat_map(|p| &p.0) {
+            if let Err(error) =
+                apply_ignition(&mut particles, &material, ignite.at, ignite.temperature)
+            {
+                warn!("Ignite on cloth {entity} ignored: {error}");
+            }
+        }
+        let status = ClothStatus {
+            particles: particles.len() as u32,
+            pins_left: particles.pins_left() as u32,
+            live_triangles: parts.topology.live_triangle_count() as u32,
+            ..default()
+        };
+        commands
+            .entity(entity)
+            .remove::<PendingIgnitions>()
+            .insert((
+                particles,
+                ClothSprings(parts.springs),
+                ClothTopology(parts.topology),
+                ClothScratch::new(material, solver.0),
+                status,
+                material,
+                solver,
+            ));
+    }
+}
+
+/// Applies valid material and solver changes, drives pins, picks each cloth's substeps.
+pub(crate) fn prepare_cloths(
+    time: Res<Time>,
+    environment: Res<ClothEnvironment>,
+    mut counter: ResMut<SubstepCounter>,
+    mut cloths: Query<(
+        Entity,
+        &mut ClothParticles,
+        &ClothSprings,
+        &ClothTopology,
+        Ref<BurnMaterial>,
+        Ref<ClothSolver>,
+        &GlobalTransform,
+        &mut ClothScratch,
+        &mut ClothStatus,
+    )>,
+) {
+    let dt = time.delta_secs();
+    counter.count = 0;
+    if let Err(error) = environment.validate() {
+        warn_once!("ClothEnvironment ignored, previous values kept: {error}");
+    }
+    for (
+        entity,
+        mut particles,
+        springs,
+        topology,
+        material,
+        solver,
+        transform,
+        mut scratch,
+        mut status,
+    ) in &mut cloths
+    {
+        if material.is_changed() && *material != scratch.material {
+            match material.validate() {
+                Ok(()) => {
+                    scratch.material = *material;
+                    scratch.workspace.invalidate_stable_step();
+                }
+                Err(error) => warn!("cloth {entity}: material change ignored: {error}"),
+            }
+        }
+        if solver.is_changed() && solver.0 != scratch.solver {
+            match solver.validate() {
+                Ok(()) => scratch.solver = solver.0,
+                Err(error) => warn!("cloth {entity}: solver change ignored: {error}"),
+            }
+        }
+        if environment.validate().is_ok() {
+            scratch.environment = environment.0;
+        }
+        drive_pins(&mut particles, transform.affine(), dt);
+        let params = force_params(&scratch.material, topology, &scratch.environment);
+        let ClothScratch {
+            workspace, solver, ..
+        } = &mut *scratch;
+        let stable = workspace.stable_step(&particles, springs, &params.coefficients);
+        status.substeps = if dt > 0.0 {
+            solver.substeps_for(dt, stable)
+        } else {
+            0
+        };
+        counter.count = counter.count.max(status.substeps);
+    }
+}
+
+/// Spreads heat on every cloth.
+pub(crate) fn spread_heat(
+    time: Res<Time>,
+    mut cloths: Query<(
+        &mut ClothParticles,
+        &ClothSprings,
+        &ClothTopology,
+        &mut ClothScratch,
+    )>,
+) {
+    let dt = time.delta_secs();
+    for (mut particles, springs, topology, mut scratch) in &mut cloths {
+        let scratch = &mut *scratch;
+        let params = heat_params(
+            &scratch.material,
+            topology,
+            &scratch.solver,
+            &scratch.environment,
+        );
+        heat_phase(&mut particles, springs, &params, &mut scratch.workspace, dt);
+    }
+}
+
+/// Ignites and burns particles, shrinks springs, and triggers [`ClothIgnited`] and
+/// [`ClothBurntOut`].
+pub(crate) fn combust(
+    time: Res<Time>,
+    mut commands: Commands,
+    mut cloths: Query<(
+        Entity,
+        &mut ClothParticles,
+        &mut ClothSprings,
+        &ClothTopology,
+        &mut ClothScratch,
+        &mut ClothStatus,
+    )>,
+) {
+    let dt = time.delta_secs();
+    for (entity, mut particles, mut springs, topology, mut scratch, mut status) in &mut cloths {
+        let scratch = &mut *scratch;
+        let report = combust_phase(
+            &mut particles,
+            &mut springs,
+            &scratch.material,
+            topology,
+            &mut scratch.workspace,
+            dt,
+        );
+        status.ignited = report.ignited;
+        status.burnt += report.newly_burnt;
+        status.pins_left = particles.pins_left() as u32;
+        let burning = report.ignited > 0;
+        if burning && !status.burning {
+            commands.trigger(ClothIgnited { entity });
+        }
+        if !burning && status.burning {
+            commands.trigger(ClothBurntOut {
+                entity,
+                burnt_fraction: status.burnt_fraction(),
+            });
+        }
+        status.burning = burning;
+    }
+}
+
+/// Runs the substep schedule as many times as the neediest cloth asks.
+pub(crate) fn run_substeps(world: &mut World) {
+    let count = world.resource::<SubstepCounter>().count;
+    for index in 0..count {
+        world.resource_mut::<SubstepCounter>().index = index;
+        world.run_schedule(ClothSubstepSchedule);
+    }
+}
+
+/// Refreshes each cloth's force parameters from its material and the environment.
+pub(crate) fn prepare_forces(mut cloths: Query<(&ClothTopology, &mut ClothScratch)>) {
+    for (topology, mut scratch) in &mut cloths {
+        let scratch = &mut *scratch;
+        scratch.force_params = force_params(&scratch.material, topology, &scratch.environment);
+    }
+}
+
+/// Integrates each cloth that takes part in this substep.
+pub(crate) fn integrate_cloths(
+    time: Res<Time>,
+    counter: Res<SubstepCounter>,
+    mut cloths: Query<(
+        &mut ClothParticles,
+        &ClothSprings,
+        &mut ClothScratch,
+        &ClothStatus,
+    )>,
+) {
+    for (mut particles, springs, mut scratch, status) in &mut cloths {
+        if counter.index >= status.substeps {
+            continue;
+        }
+        let h = time.delta_secs() / status.substeps as f32;
+        let scratch = &mut *scratch;
+        integrate_phase(
+            &mut particles,
+            springs,
+            &scratch.force_params,
+            scratch.solver.integrator,
+            &mut scratch.workspace,
+            h,
+        );
+    }
+}
+
+/// Applies Provot's correction to each cloth taking part in this substep.
+pub(crate) fn constrain_cloths(
+    time: Res<Time>,
+    counter: Res<SubstepCounter>,
+    mut cloths: Query<(
+        &mut ClothParticles,
+        &ClothSprings,
+        &mut ClothScratch,
+        &ClothStatus,
+    )>,
+) {
+    for (mut particles, springs, mut scratch, status) in &mut cloths {
+        if counter.index >= status.substeps {
+            continue;
+        }
+        let h = time.delta_secs() / status.substeps as f32;
+        let scratch = &mut *scratch;
+        constrain_phase(
+            &mut particles,
+            springs,
+            scratch.solver.provot,
+            &mut scratch.workspace,
+            h,
+        );
+    }
+}
+
+/// Rebuilds each cloth's live index list and counts.
+pub(crate) fn cull_cloths(
+    mut cloths: Query<(&ClothParticles, &mut ClothTopology, &mut ClothStatus)>,
+) {
+    for (particles, mut topology, mut status) in &mut cloths {
+        cull_phase(particles, &mut topology);
+        status.live_triangles = topology.live_triangle_count() as u32;
+        status.burnt = particles.count(BurnState::Burnt) as u32;
+    }
+}

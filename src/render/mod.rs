@@ -1,0 +1,197 @@
+//! Drawing cloths with Bevy's renderer (feature `render`).
+//!
+//! | piece | what it does |
+//! |---|---|
+//! | [`ClothRenderPlugin`] | gives each cloth a dynamic [`Mesh`] and a double-sided material, updates the mesh in place each frame, ignites a cloth where it is clicked |
+//! | [`vertices`] | the vertex data: positions in the entity's frame, normals, burn colours |
+//!
+//! The mesh is the cloth entity's own [`Mesh3d`]: positions are written in the entity's
+//! frame, so its `Transform` places the cloth once, not twice. Burnt triangles leave the index
+//! buffer (never drawn as degenerate triangles). Vertex colours darken the cloth to scorch and
+//! char and glow orange on the burning front. Bevy recomputes the bounding box when the mesh
+//! changes, so frustum culling follows the cloth as it falls.
+//!
+//! Click-to-ignite uses Bevy's mesh picking: the plugin adds `MeshPickingPlugin` when
+//! picking is present (as with `DefaultPlugins`). [`ClickToIgnite`] turns it off.
+
+pub mod vertices;
+
+use crate::plugin::{ClothParticles, ClothScratch, ClothTopology, Ignite};
+use crate::sim::BurnMaterial;
+use bevy::asset::RenderAssetUsages;
+use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
+use bevy::picking::PickingPlugin;
+use bevy::picking::mesh_picking::MeshPickingPlugin;
+use bevy::prelude::*;
+
+/// Draws every cloth as a dynamic mesh and ignites cloths where they are clicked.
+pub struct ClothRenderPlugin;
+
+impl Plugin for ClothRenderPlugin {
+    fn build(&self, app: &mut App) {
+        if app.is_plugin_added::<PickingPlugin>() && !app.is_plugin_added::<MeshPickingPlugin>() {
+            app.add_plugins(MeshPickingPlugin);
+        }
+        app.init_resource::<ClickToIgnite>()
+            .add_observer(ignite_on_click);
+    }
+
+    fn finish(&self, app: &mut App) {
+        // Without assets and a renderer (a headless app) there is nothing to draw into.
+        if !app.world().contains_resource::<Assets<Mesh>>()
+            || !app.world().contains_resource::<Assets<StandardMaterial>>()
+        {
+            info!(
+                "ClothRenderPlugin: no mesh or material assets in this app, cloths are not drawn"
+            );
+            return;
+        }
+        app.add_systems(
+            PostUpdate,
+            (attach_cloth_meshes, sync_cloth_meshes)
+                .chain()
+                .after(bevy::transform::TransformSystems::Propagate)
+                .run_if(any_with_component::<ClothParticles>),
+        );
+    }
+}
+
+/// Whether clicking a cloth sets it alight at the clicked point (primary button).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClickToIgnite {
+    /// On by default.
+    pub enabled: bool,
+}
+
+impl Default for ClickToIgnite {
+    fn default() -> Self {
+        Self { enabled: true }
+    }
+}
+
+/// The dynamic mesh of a cloth and the buffers its vertex data is assembled in.
+#[derive(Component, Debug, Default)]
+pub struct ClothMesh {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    colours: Vec<[f32; 4]>,
+}
+
+/// Converts a material's sRGB colour to a Bevy colour.
+pub fn material_colour(material: &BurnMaterial) -> Color {
+    let [r, g, b] = material.base_colour;
+    Color::srgb(r, g, b)
+}
+
+fn attach_cloth_meshes(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+    cloths: Query<
+        (
+            Entity,
+            &ClothParticles,
+            &ClothTopology,
+            &BurnMaterial,
+            Has<MeshMaterial3d<StandardMaterial>>,
+        ),
+        Added<ClothTopology>,
+    >,
+) {
+    for (entity, particles, topology, material, has_material) in &cloths {
+        let n = particles.len();
+        let uv: Vec<[f32; 2]> = topology.uv.iter().map(|uv| uv.to_array()).collect();
+        let mesh = Mesh::new(
+            PrimitiveTopology::TriangleList,
+            RenderAssetUsages::default(),
+        )
+        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0f32; 3]; n])
+        .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; n])
+        .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uv)
+        .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, vec![[1.0f32; 4]; n])
+        .with_inserted_indices(Indices::U32(topology.live_indices.clone()));
+        let mut entity_commands = commands.entity(entity);
+        entity_commands.insert((Mesh3d(meshes.add(mesh)), ClothMesh::default()));
+        if !has_material {
+            entity_commands.insert(MeshMaterial3d(materials.add(StandardMaterial {
+                base_color: material_colour(material),
+                perceptual_roughness: 0.85,
+                double_sided: true,
+                cull_mode: None,
+                ..default()
+            })));
+        }
+    }
+}
+
+fn sync_cloth_meshes(
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut cloths: Query<
+        (
+            &ClothParticles,
+            &ClothTopology,
+            &ClothScratch,
+            &GlobalTransform,
+            &Mesh3d,
+            &mut ClothMesh,
+        ),
+        Changed<ClothParticles>,
+    >,
+) {
+    for (particles, topology, scratch, transform, mesh3d, mut buffers) in &mut cloths {
+        let Some(mut mesh) = meshes.get_mut(&mesh3d.0) else {
+            continue;
+        };
+        let buffers = &mut *buffers;
+        let world_to_local = transform.affine().inverse();
+        vertices::local_positions(particles, world_to_local, &mut buffers.positions);
+        vertices::vertex_normals(
+            &buffers.positions,
+            &topology.live_indices,
+            &mut buffers.normals,
+        );
+        vertices::burn_colours(particles, &scratch.material, &mut buffers.colours);
+        write_attribute(&mut mesh, Mesh::ATTRIBUTE_POSITION, &buffers.positions);
+        write_attribute(&mut mesh, Mesh::ATTRIBUTE_NORMAL, &buffers.normals);
+        if let Some(VertexAttributeValues::Float32x4(colours)) =
+            mesh.attribute_mut(Mesh::ATTRIBUTE_COLOR)
+        {
+            copy_into(colours, &buffers.colours);
+        }
+        if let Some(Indices::U32(indices)) = mesh.indices_mut() {
+            copy_into(indices, &topology.live_indices);
+        }
+    }
+}
+
+fn write_attribute(mesh: &mut Mesh, attribute: bevy::mesh::MeshVertexAttribute, data: &[[f32; 3]]) {
+    if let Some(VertexAttributeValues::Float32x3(values)) = mesh.attribute_mut(attribute) {
+        copy_into(values, data);
+    }
+}
+
+/// Overwrites `target` with `source`, reusing its memory when the length is unchanged.
+fn copy_into<T: Copy>(target: &mut Vec<T>, source: &[T]) {
+    if target.len() == source.len() {
+        target.copy_from_slice(source);
+    } else {
+        target.clear();
+        target.extend_from_slice(source);
+    }
+}
+
+fn ignite_on_click(
+    click: On<Pointer<Click>>,
+    settings: Res<ClickToIgnite>,
+    cloths: Query<(), With<ClothParticles>>,
+    mut commands: Commands,
+) {
+    if !settings.enabled || click.event.button != PointerButton::Primary {
+        return;
+    }
+    if cloths.contains(click.entity)
+        && let Some(point) = click.event.hit.position
+    {
+        commands.trigger(Ignite::at_world_point(click.entity, point));
+    }
+}

@@ -1,0 +1,224 @@
+//! Springs stored once each, with their own rest length: Hooke's law with damping.
+//!
+//! The paper kept 12 springs per particle and had to keep a particle's north spring equal
+//! to its neighbour's south spring. Here each spring exists once, so the two ends share
+//! one rest length by construction.
+
+use super::BurnMaterial;
+use super::particles::BurnState;
+use glam::Vec3;
+
+/// The paper's three spring kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum SpringKind {
+    /// Between grid neighbours (N, S, E, W): resists stretch.
+    Structural = 0,
+    /// Across a grid cell's diagonals: resists shear.
+    Shear = 1,
+    /// Two particles apart (N, S, E, W): resists bending.
+    Bend = 2,
+}
+
+impl SpringKind {
+    /// All kinds, in index order.
+    pub const ALL: [Self; 3] = [Self::Structural, Self::Shear, Self::Bend];
+
+    /// True for the kinds that carry heat and that Provot's correction limits.
+    pub fn is_in_plane(self) -> bool {
+        matches!(self, Self::Structural | Self::Shear)
+    }
+}
+
+/// The springs of one cloth as a structure of arrays.
+#[derive(Clone, Debug, Default)]
+pub struct Springs {
+    /// First particle of each spring.
+    pub a: Vec<u32>,
+    /// Second particle of each spring.
+    pub b: Vec<u32>,
+    /// Current rest length, m: shrinks as the ends heat up.
+    pub rest_length: Vec<f32>,
+    /// Rest length when the cloth was built, m.
+    pub initial_rest_length: Vec<f32>,
+    /// Kind of each spring.
+    pub kind: Vec<SpringKind>,
+}
+
+impl Springs {
+    /// Number of springs.
+    pub fn len(&self) -> usize {
+        self.a.len()
+    }
+
+    /// True when there is no spring.
+    pub fn is_empty(&self) -> bool {
+        self.a.is_empty()
+    }
+
+    /// Adds a spring between `a` and `b` with rest length `rest`.
+    pub fn push(&mut self, a: u32, b: u32, rest: f32, kind: SpringKind) {
+        self.a.push(a);
+        self.b.push(b);
+        self.rest_length.push(rest);
+        self.initial_rest_length.push(rest);
+        self.kind.push(kind);
+    }
+
+    /// Number of springs of one kind.
+    pub fn count(&self, kind: SpringKind) -> usize {
+        self.kind.iter().filter(|&&k| k == kind).count()
+    }
+
+    /// True when neither end of spring `s` has burnt.
+    pub fn is_live(&self, s: usize, state: &[BurnState]) -> bool {
+        !state[self.a[s] as usize].is_burnt() && !state[self.b[s] as usize].is_burnt()
+    }
+
+    /// Largest length / rest-length ratio over live springs of `kinds`, or 1 if none.
+    pub fn max_stretch(
+        &self,
+        positions: &[Vec3],
+        state: &[BurnState],
+        kinds: impl Fn(SpringKind) -> bool,
+    ) -> f32 {
+        (0..self.len())
+            .filter(|&s| kinds(self.kind[s]) && self.is_live(s, state))
+            .map(|s| {
+                let length = positions[self.a[s] as usize].distance(positions[self.b[s] as usize]);
+                length / self.rest_length[s].max(f32::MIN_POSITIVE)
+            })
+            .fold(1.0, f32::max)
+    }
+
+    /// Elastic energy stored in live springs, J.
+    pub fn potential_energy(
+        &self,
+        positions: &[Vec3],
+        state: &[BurnState],
+        coefficients: &SpringCoefficients,
+    ) -> f32 {
+        (0..self.len())
+            .filter(|&s| self.is_live(s, state))
+            .map(|s| {
+                let length = positions[self.a[s] as usize].distance(positions[self.b[s] as usize]);
+                let extension = length - self.rest_length[s];
+                0.5 * coefficients.stiffness[self.kind[s] as usize] * extension * extension
+            })
+            .sum()
+    }
+}
+
+/// Stiffness and damping coefficient per spring kind, indexed by `SpringKind as usize`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SpringCoefficients {
+    /// Stiffness, N/m.
+    pub stiffness: [f32; 3],
+    /// Damping coefficient, N·s/m.
+    pub damping: [f32; 3],
+}
+
+impl SpringCoefficients {
+    /// Coefficients from a material, with damping set so a spring between two particles of
+    /// `particle_mass` has the material's damping ratio: `c = 2 ζ sqrt(k m / 2)`.
+    pub fn from_material(material: &BurnMaterial, particle_mass: f32) -> Self {
+        let mut coefficients = Self::default();
+        for kind in SpringKind::ALL {
+            let k = material.stiffness(kind);
+            coefficients.stiffness[kind as usize] = k;
+            coefficients.damping[kind as usize] =
+                2.0 * material.damping_ratio * (k * particle_mass * 0.5).sqrt();
+        }
+        coefficients
+    }
+}
+
+/// Force on particle `a` from a damped spring to particle `b`, N.
+///
+/// `f_a = (k (|d| - L) + c (v_b - v_a)·n) n` with `d = x_b - x_a`, `n = d / |d|`. Coincident
+/// particles have no direction and get no force.
+#[inline]
+pub fn spring_force(
+    x_a: Vec3,
+    x_b: Vec3,
+    v_a: Vec3,
+    v_b: Vec3,
+    rest_length: f32,
+    stiffness: f32,
+    damping: f32,
+) -> Vec3 {
+    let delta = x_b - x_a;
+    let length = delta.length();
+    if length <= 1e-9 {
+        return Vec3::ZERO;
+    }
+    let direction = delta / length;
+    let magnitude = stiffness * (length - rest_length) + damping * (v_b - v_a).dot(direction);
+    direction * magnitude
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stretched_spring_pulls_ends_together_with_hookes_magnitude() {
+        let f = spring_force(
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::ZERO,
+            Vec3::ZERO,
+            1.5,
+            10.0,
+            0.0,
+        );
+        // Extension 0.5 m at 10 N/m: 5 N toward b.
+        assert!((f - Vec3::new(5.0, 0.0, 0.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn compressed_spring_pushes_ends_apart() {
+        let f = spring_force(
+            Vec3::ZERO,
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::ZERO,
+            Vec3::ZERO,
+            1.0,
+            4.0,
+            0.0,
+        );
+        assert!((f - Vec3::new(0.0, -2.0, 0.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn damping_opposes_separation_speed_only() {
+        // At rest length, b moving away along the spring at 2 m/s, sideways at 5 m/s.
+        let f = spring_force(
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::ZERO,
+            Vec3::new(2.0, 5.0, 0.0),
+            1.0,
+            100.0,
+            0.5,
+        );
+        assert!((f - Vec3::new(1.0, 0.0, 0.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn coincident_particles_get_no_force() {
+        let f = spring_force(Vec3::ONE, Vec3::ONE, Vec3::ZERO, Vec3::X, 1.0, 100.0, 1.0);
+        assert_eq!(f, Vec3::ZERO);
+    }
+
+    #[test]
+    fn damping_gives_the_material_damping_ratio() {
+        let mut material = BurnMaterial::SILK;
+        material.damping_ratio = 0.3;
+        let c = SpringCoefficients::from_material(&material, 2.0);
+        let k = c.stiffness[0];
+        // Two equal masses: reduced mass m/2, critical damping 2 sqrt(k m/2).
+        let ratio = c.damping[0] / (2.0 * (k * 1.0_f32).sqrt());
+        assert!((ratio - 0.3).abs() < 1e-6);
+    }
+}

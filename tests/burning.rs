@@ -1,0 +1,204 @@
+//! Burning behaviour through the public simulation API, without an `App`.
+
+use bevy::math::{Affine3A, Vec3};
+use bevy_burning_cloth::sim::cloth::{heat_params, heat_phase};
+use bevy_burning_cloth::sim::{BurnMaterial, BurnState, ClothBuilder, ClothSim, GridShape};
+
+const DT: f32 = 1.0 / 60.0;
+
+fn hanging(columns: u32, rows: u32, material: BurnMaterial) -> ClothSim {
+    ClothSim::new(
+        &ClothBuilder::grid(columns, rows, 0.03).pin_top_corners(),
+        material,
+        Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
+    )
+    .unwrap()
+}
+
+fn grid_of(sim: &ClothSim) -> GridShape {
+    sim.topology.grid.unwrap()
+}
+
+#[test]
+fn heat_reaches_the_particle_above_before_the_one_below() {
+    let mut sim = hanging(15, 15, BurnMaterial::COTTON);
+    let grid = grid_of(&sim);
+    let centre = grid.index(7, 7);
+    let (above, below) = (grid.index(7, 6), grid.index(7, 8));
+    sim.ignite(centre).unwrap();
+    let mut above_ignited_at = None;
+    let mut below_ignited_at = None;
+    for step in 0..2_000 {
+        sim.step(DT);
+        let state = &sim.particles.state;
+        if above_ignited_at.is_none() && state[above] != BurnState::Intact {
+            above_ignited_at = Some(step);
+        }
+        if below_ignited_at.is_none() && state[below] != BurnState::Intact {
+            below_ignited_at = Some(step);
+        }
+        if above_ignited_at.is_some() && below_ignited_at.is_some() {
+            break;
+        }
+    }
+    let above = above_ignited_at.expect("the particle above never ignited");
+    let below = below_ignited_at.expect("the particle below never ignited");
+    assert!(
+        above < below,
+        "above ignited at step {above}, below at {below}"
+    );
+}
+
+#[test]
+fn burnt_particles_leave_the_index_list_and_the_springs() {
+    let mut sim = hanging(12, 12, BurnMaterial::PAPER);
+    sim.ignite(grid_of(&sim).index(6, 10)).unwrap();
+    let mut saw_partial_burn = false;
+    for _ in 0..3_000 {
+        sim.step(DT);
+        let state = &sim.particles.state;
+        let burnt = state.iter().filter(|s| s.is_burnt()).count();
+        for &i in &sim.topology.live_indices {
+            assert!(!state[i as usize].is_burnt(), "burnt particle {i} drawn");
+        }
+        if burnt > 0 && burnt < state.len() {
+            saw_partial_burn = true;
+            // Every live triangle is kept, every dead one dropped.
+            let live = sim
+                .topology
+                .triangles
+                .iter()
+                .filter(|t| t.iter().all(|&i| !state[i as usize].is_burnt()))
+                .count();
+            assert_eq!(live, sim.topology.live_triangle_count());
+        }
+    }
+    assert!(saw_partial_burn);
+}
+
+#[test]
+fn a_cloth_pinned_at_two_corners_burns_away_completely_in_bounded_time() {
+    // The paper's Figure 4: ignited near a bottom corner, both pins burn, nothing is left.
+    let mut sim = hanging(24, 24, BurnMaterial::SILK);
+    let grid = grid_of(&sim);
+    sim.ignite(grid.index(21, 22)).unwrap();
+    let max_steps = 60 * 120;
+    let mut steps = 0;
+    while sim.particles.count(BurnState::Burnt) < sim.particles.len() {
+        sim.step(DT);
+        steps += 1;
+        assert!(
+            sim.particles.is_finite(),
+            "non-finite state at step {steps}"
+        );
+        assert!(
+            steps < max_steps,
+            "not burnt away after {steps} steps: {:.1} % burnt, {} ignited",
+            100.0 * sim.particles.burnt_fraction(),
+            sim.particles.count(BurnState::Ignited)
+        );
+    }
+    assert_eq!(sim.particles.pins_left(), 0);
+    assert!(sim.topology.live_indices.is_empty());
+}
+
+#[test]
+fn rest_lengths_shrink_near_the_fire_and_stay_above_the_floor() {
+    let material = BurnMaterial::DENIM;
+    let mut sim = hanging(16, 16, material);
+    sim.ignite(grid_of(&sim).index(8, 12)).unwrap();
+    let mut shrunk = false;
+    for _ in 0..1_500 {
+        sim.step(DT);
+        let springs = &sim.springs;
+        for s in 0..springs.len() {
+            let floor = material.min_rest_fraction * springs.initial_rest_length[s];
+            assert!(springs.rest_length[s] >= floor - 1e-7);
+            assert!(springs.rest_length[s] <= springs.initial_rest_length[s]);
+            shrunk |= springs.rest_length[s] < 0.95 * springs.initial_rest_length[s];
+        }
+    }
+    assert!(shrunk, "no spring shrank near the fire");
+}
+
+/// A 6 x 20 cloth folded in half: rows 10..20 are laid back over rows 0..10 at a fraction of
+/// the spacing in front, so the two layers touch without sharing springs.
+fn folded(proximity_radius_factor: f32) -> (ClothSim, usize, usize) {
+    let spacing = 0.03;
+    let mut sim = ClothSim::new(
+        &ClothBuilder::grid(6, 20, spacing),
+        BurnMaterial::COTTON,
+        Affine3A::IDENTITY,
+    )
+    .unwrap();
+    sim.solver.proximity_radius_factor = proximity_radius_factor;
+    let grid = grid_of(&sim);
+    for row in 10..20 {
+        for column in 0..6 {
+            let mirror = sim.particles.position[grid.index(column, 19 - row)];
+            sim.particles.position[grid.index(column, row)] = mirror + Vec3::Z * 0.3 * spacing;
+        }
+    }
+    // Burn a particle of the back layer; watch the one facing it in the front layer,
+    // 13 rows away along the cloth.
+    (sim, grid.index(3, 3), grid.index(3, 16))
+}
+
+fn heat_only(sim: &mut ClothSim, steps: usize) {
+    let params = heat_params(&sim.material, &sim.topology, &sim.solver, &sim.environment);
+    for _ in 0..steps {
+        heat_phase(
+            &mut sim.particles,
+            &sim.springs,
+            &params,
+            &mut sim.workspace,
+            DT,
+        );
+        let mut burnt = Vec::new();
+        bevy_burning_cloth::sim::combustion::update_burn_states(
+            &sim.particles.temperature,
+            &mut sim.particles.state,
+            &sim.material,
+            &mut burnt,
+        );
+    }
+}
+
+#[test]
+fn folded_layers_pass_heat_through_the_spatial_hash() {
+    let steps = 30;
+    let (mut sim, burning, facing) = folded(0.6);
+    let t0 = sim.particles.temperature[facing];
+    sim.ignite(burning).unwrap();
+    heat_only(&mut sim, steps);
+    assert!(
+        sim.particles.temperature[facing] > t0 + 10.0,
+        "facing particle at {} °C",
+        sim.particles.temperature[facing]
+    );
+
+    let (mut sim, burning, facing) = folded(0.0);
+    sim.ignite(burning).unwrap();
+    heat_only(&mut sim, steps);
+    assert_eq!(
+        sim.particles.temperature[facing], t0,
+        "without proximity heating no heat crosses the fold"
+    );
+}
+
+#[test]
+fn a_burnt_particle_is_frozen_while_the_cloth_moves() {
+    let mut sim = hanging(6, 6, BurnMaterial::CLOTH);
+    let grid = grid_of(&sim);
+    let victim = grid.index(3, 3);
+    sim.particles.state[victim] = BurnState::Burnt;
+    let before = sim.particles.position[victim];
+    for _ in 0..120 {
+        sim.step(DT);
+    }
+    assert_eq!(
+        sim.particles.position[victim], before,
+        "a burnt particle is frozen"
+    );
+    assert!(sim.particles.is_finite());
+}

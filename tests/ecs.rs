@@ -1,0 +1,169 @@
+//! The plugin through Bevy's ECS: `MinimalPlugins` + `BurningClothPlugins`, no renderer.
+
+use bevy::prelude::*;
+use bevy::time::TimeUpdateStrategy;
+use bevy_burning_cloth::prelude::*;
+use std::time::Duration;
+
+/// 64 Hz: Bevy's default fixed step, exact in nanoseconds, so each update runs one step.
+const STEP: Duration = Duration::from_micros(15_625);
+
+#[derive(Resource, Default)]
+struct Seen {
+    ignited: Vec<Entity>,
+    burnt_out: Vec<(Entity, f32)>,
+}
+
+fn app() -> App {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, BurningClothPlugins::default()))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(STEP))
+        .init_resource::<Seen>()
+        .add_observer(|event: On<ClothIgnited>, mut seen: ResMut<Seen>| {
+            seen.ignited.push(event.entity);
+        })
+        .add_observer(|event: On<ClothBurntOut>, mut seen: ResMut<Seen>| {
+            seen.burnt_out.push((event.entity, event.burnt_fraction));
+        });
+    app
+}
+
+fn spawn_silk(app: &mut App) -> Entity {
+    app.world_mut()
+        .spawn((
+            ClothBuilder::grid(16, 16, 0.03).pin_top_corners(),
+            BurnMaterial::SILK,
+            Transform::from_xyz(0.0, 2.0, 0.0),
+        ))
+        .id()
+}
+
+#[test]
+fn a_cloth_burns_away_through_the_ecs() {
+    let mut app = app();
+    let cloth = spawn_silk(&mut app);
+    // Ignite before the cloth is built: the request waits for it.
+    app.world_mut()
+        .trigger(Ignite::at_world_point(cloth, Vec3::new(0.2, 1.6, 0.0)));
+    app.update();
+    let particles = app
+        .world()
+        .get::<ClothParticles>(cloth)
+        .expect("cloth built");
+    assert_eq!(particles.len(), 256);
+    // The transform placed it: the top row hangs at y = 2.
+    assert!((particles.position[0].y - 2.0).abs() < 1e-5);
+
+    for _ in 0..64 * 90 {
+        app.update();
+        if !app.world().resource::<Seen>().burnt_out.is_empty() {
+            break;
+        }
+    }
+    let seen = app.world().resource::<Seen>();
+    assert_eq!(seen.ignited, vec![cloth]);
+    assert_eq!(seen.burnt_out.len(), 1, "the fire went out once");
+    let (entity, fraction) = seen.burnt_out[0];
+    assert_eq!(entity, cloth);
+    assert_eq!(fraction, 1.0, "the whole cloth burnt");
+    let status = app.world().get::<ClothStatus>(cloth).unwrap();
+    assert_eq!(status.pins_left, 0);
+    assert_eq!(status.live_triangles, 0);
+    assert!(
+        app.world()
+            .get::<ClothParticles>(cloth)
+            .unwrap()
+            .is_finite()
+    );
+}
+
+#[test]
+fn a_cloth_hangs_still_without_fire_and_its_pins_follow_the_entity() {
+    let mut app = app();
+    let cloth = spawn_silk(&mut app);
+    for _ in 0..64 * 3 {
+        app.update();
+    }
+    let status = *app.world().get::<ClothStatus>(cloth).unwrap();
+    assert_eq!(status.burnt, 0);
+    assert!(!status.burning);
+    assert!(status.substeps >= 1);
+    // Move the cloth: its pins go with it.
+    app.world_mut()
+        .get_mut::<Transform>(cloth)
+        .unwrap()
+        .translation
+        .x += 1.0;
+    for _ in 0..3 {
+        app.update();
+    }
+    let particles = app.world().get::<ClothParticles>(cloth).unwrap();
+    assert!((particles.position[0].x - (1.0 - 0.225)).abs() < 1e-4);
+    assert!(particles.is_finite());
+}
+
+#[test]
+fn bad_requests_are_ignored_without_panicking() {
+    let mut app = app();
+    let cloth = spawn_silk(&mut app);
+    let broken = app
+        .world_mut()
+        .spawn((ClothBuilder::grid(0, 10, f32::NAN), Transform::default()))
+        .id();
+    let negative = app
+        .world_mut()
+        .spawn((
+            ClothBuilder::grid(4, 4, 0.1).with_total_mass(-1.0),
+            Transform::default(),
+        ))
+        .id();
+    app.update();
+    assert!(app.world().get::<ClothParticles>(broken).is_none());
+    assert!(app.world().get::<ClothParticles>(negative).is_none());
+
+    let ghost = app.world_mut().spawn_empty().id();
+    app.world_mut().despawn(ghost);
+    app.world_mut().trigger(Ignite::particle(ghost, 0));
+    app.world_mut().trigger(Ignite::particle(cloth, 10_000));
+    app.world_mut()
+        .trigger(Ignite::at_world_point(cloth, Vec3::NAN));
+    app.world_mut()
+        .trigger(Ignite::particle(cloth, 3).with_temperature(f32::INFINITY));
+    app.world_mut()
+        .trigger(Ignite::particle(cloth, 3).with_temperature(-500.0));
+    // An invalid material change mid-run is refused; the old one stays in use.
+    app.world_mut()
+        .get_mut::<BurnMaterial>(cloth)
+        .unwrap()
+        .structural_stiffness = f32::NAN;
+    app.world_mut().resource_mut::<ClothEnvironment>().gravity = Vec3::INFINITY;
+    for _ in 0..64 {
+        app.update();
+    }
+    let particles = app.world().get::<ClothParticles>(cloth).unwrap();
+    assert!(particles.is_finite());
+    assert_eq!(particles.count(BurnState::Ignited), 0, "nothing was lit");
+    let status = app.world().get::<ClothStatus>(cloth).unwrap();
+    assert!(!status.burning);
+}
+
+#[derive(Resource, Default)]
+struct SubstepsRun(u32);
+
+#[test]
+fn systems_do_no_work_until_a_cloth_exists() {
+    let mut app = app();
+    app.init_resource::<SubstepsRun>().add_systems(
+        bevy_burning_cloth::plugin::ClothSubstepSchedule,
+        (|mut run: ResMut<SubstepsRun>| run.0 += 1).in_set(ClothSubstepSystems::Forces),
+    );
+    for _ in 0..10 {
+        app.update();
+    }
+    assert_eq!(app.world().resource::<SubstepsRun>().0, 0);
+    spawn_silk(&mut app);
+    for _ in 0..10 {
+        app.update();
+    }
+    assert!(app.world().resource::<SubstepsRun>().0 > 0);
+}
