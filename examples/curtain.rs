@@ -79,7 +79,7 @@ fn spawn_help(mut commands: Commands) {
     commands.spawn((
         Text::new("left click: ignite   right drag: orbit   scroll: zoom   space: ignite corner   R: reset"),
         TextFont {
-            font_size: 16.0,
+            font_size: FontSize::Px(16.0),
             ..default()
         },
         Node {
