@@ -19,7 +19,7 @@ const ROWS: u32 = 48;
 const SPACING: f32 = 0.035;
 const RAIL_HEIGHT: f32 = 2.2;
 
-fn main() {
+fn main() -> AppExit {
     let check = common::CheckRun::from_env();
     App::new()
         .add_plugins((
@@ -38,7 +38,7 @@ fn main() {
                 .run_if(move || check.is_some())
                 .before(BurningClothSystems::Prepare),
         )
-        .run();
+        .run()
 }
 
 #[derive(Component)]

@@ -4,6 +4,9 @@
 //! Check mode: set `BURNING_CLOTH_SCREENSHOT=path.png` (and optionally
 //! `BURNING_CLOTH_FRAMES=N`, default 240). Each frame then advances exactly 1/60 s of
 //! simulated time, however slow the renderer, so the picture is the same on any machine.
+//! The screenshot's pixels are classified (light cloth, char, fire) and the counts printed;
+//! `BURNING_CLOTH_REQUIRE=cloth,char,fire` makes the app exit with an error when any of the
+//! named classes has fewer than 50 pixels.
 
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
 use bevy::prelude::*;
@@ -11,11 +14,12 @@ use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 use bevy::time::TimeUpdateStrategy;
 use std::time::Duration;
 
-/// Frames, target file of a check run.
+/// Frames, target file and required pixel classes of a check run.
 #[derive(Resource, Clone, Debug)]
 pub struct CheckRun {
     pub frames: u32,
     pub screenshot: String,
+    pub require: Vec<String>,
 }
 
 impl CheckRun {
@@ -26,7 +30,14 @@ impl CheckRun {
             .ok()
             .and_then(|f| f.parse().ok())
             .unwrap_or(240);
-        Some(Self { frames, screenshot })
+        let require = std::env::var("BURNING_CLOTH_REQUIRE")
+            .map(|r| r.split(',').map(|c| c.trim().to_owned()).collect())
+            .unwrap_or_default();
+        Some(Self {
+            frames,
+            screenshot,
+            require,
+        })
     }
 }
 
@@ -44,7 +55,7 @@ impl Plugin for ExamplePlugin {
             yaw: 0.0,
             pitch: 0.12,
         })
-        .insert_resource(ClearColor(Color::srgb(0.05, 0.05, 0.07)))
+        .insert_resource(ClearColor(Color::srgb(0.22, 0.32, 0.46)))
         .add_systems(Startup, spawn_stage)
         .add_systems(Update, orbit_camera);
         if let Some(check) = CheckRun::from_env() {
@@ -103,13 +114,13 @@ fn spawn_stage(
         Transform::from_xyz(3.0, 6.0, 5.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
     commands.insert_resource(GlobalAmbientLight {
-        brightness: 250.0,
+        brightness: 600.0,
         ..default()
     });
     commands.spawn((
         Mesh3d(meshes.add(Plane3d::default().mesh().size(12.0, 12.0))),
         MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::srgb(0.22, 0.2, 0.18),
+            base_color: Color::srgb(0.42, 0.38, 0.33),
             perceptual_roughness: 1.0,
             ..default()
         })),
@@ -136,6 +147,7 @@ fn orbit_camera(
 fn finish_check_run(
     mut commands: Commands,
     check: Res<CheckRun>,
+    verdict: Option<Res<PixelVerdict>>,
     mut frame: Local<u32>,
     mut exit: MessageWriter<AppExit>,
 ) {
@@ -144,10 +156,99 @@ fn finish_check_run(
         info!("check run: saving {}", check.screenshot);
         commands
             .spawn(Screenshot::primary_window())
-            .observe(save_to_disk(check.screenshot.clone()));
+            .observe(save_to_disk(check.screenshot.clone()))
+            .observe(classify_screenshot);
     }
-    // Give the screenshot a few frames to be captured and written.
-    if *frame == check.frames + 8 {
-        exit.write(AppExit::Success);
+    // Give the screenshot a few frames to be captured, classified and written.
+    if *frame >= check.frames + 8
+        && let Some(verdict) = verdict
+    {
+        exit.write(if verdict.0 {
+            AppExit::Success
+        } else {
+            AppExit::error()
+        });
     }
+    if *frame == check.frames + 600 {
+        error!("check run: the screenshot never arrived");
+        exit.write(AppExit::error());
+    }
+}
+
+/// Whether the screenshot had every required pixel class.
+#[derive(Resource)]
+struct PixelVerdict(bool);
+
+/// Pixel classes of a frame, by sRGB bytes.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct PixelCounts {
+    /// Light, unsaturated pixels: fresh pale cloth under light.
+    pub cloth: u32,
+    /// Near-black pixels: charred cloth (background, floor and its shadows are lighter:
+    /// the darkest shadow measures about (64, 56, 48)).
+    pub char: u32,
+    /// Bright orange pixels: the glowing front.
+    pub fire: u32,
+}
+
+impl PixelCounts {
+    fn add(&mut self, [r, g, b]: [u8; 3]) {
+        let (r, g, b) = (i32::from(r), i32::from(g), i32::from(b));
+        let (max, min) = (r.max(g).max(b), r.min(g).min(b));
+        if min > 150 && max - min < 40 {
+            self.cloth += 1;
+        } else if max < 48 {
+            self.char += 1;
+        } else if r >= 170 && 4 * r > 5 * g && 10 * g > 14 * b && b < 140 {
+            self.fire += 1;
+        }
+    }
+
+    fn get(&self, class: &str) -> Option<u32> {
+        match class {
+            "cloth" => Some(self.cloth),
+            "char" => Some(self.char),
+            "fire" => Some(self.fire),
+            _ => None,
+        }
+    }
+}
+
+fn classify_screenshot(
+    captured: On<bevy::render::view::screenshot::ScreenshotCaptured>,
+    check: Res<CheckRun>,
+    mut commands: Commands,
+) {
+    let image = &captured.image;
+    let mut counts = PixelCounts::default();
+    for y in 0..image.height() {
+        for x in 0..image.width() {
+            if let Ok(colour) = image.get_color_at(x, y) {
+                counts.add(colour.to_srgba().to_u8_array_no_alpha());
+            }
+        }
+    }
+    println!(
+        "pixel check: cloth {} char {} fire {} (of {} x {})",
+        counts.cloth,
+        counts.char,
+        counts.fire,
+        image.width(),
+        image.height()
+    );
+    let mut ok = true;
+    for class in &check.require {
+        match counts.get(class) {
+            Some(n) if n >= 50 => {}
+            Some(n) => {
+                println!("pixel check FAILED: only {n} {class} pixels");
+                ok = false;
+            }
+            None => {
+                println!("pixel check FAILED: unknown class {class}");
+                ok = false;
+            }
+        }
+    }
+    commands.insert_resource(PixelVerdict(ok));
 }

@@ -2,24 +2,33 @@
 //!
 //! | piece | what it does |
 //! |---|---|
-//! | [`ClothRenderPlugin`] | gives each cloth a dynamic [`Mesh`] and a double-sided material, updates the mesh in place each frame, ignites a cloth where it is clicked |
-//! | [`vertices`] | the vertex data: positions in the entity's frame, normals, burn colours |
+//! | [`ClothRenderPlugin`] | gives each cloth a dynamic [`Mesh`] and a [`BurningClothMaterial`], updates the mesh in place each frame, ignites a cloth where it is clicked |
+//! | [`material`] | [`BurningClothMaterial`]: standard PBR plus scorch, char, glowing front and a smooth cut |
+//! | [`vertices`] | the vertex data: positions in the entity's frame, normals, burn data |
 //!
 //! The mesh is the cloth entity's own [`Mesh3d`]: positions are written in the entity's
 //! frame, so its `Transform` places the cloth once, not twice. Burnt triangles leave the index
-//! buffer (never drawn as degenerate triangles). Vertex colours darken the cloth to scorch and
-//! char and glow orange on the burning front. Bevy recomputes the bounding box when the mesh
-//! changes, so frustum culling follows the cloth as it falls.
+//! buffer (never drawn as degenerate triangles). Per-vertex burn data (second UV channel)
+//! lets the shader scorch and char the cloth, glow orange along the burning front, and cut the
+//! burnt region smoothly through the interior of triangles. Bevy recomputes the bounding box
+//! when the mesh changes, so frustum culling follows the cloth as it falls.
+//!
+//! Add `BurningClothPlugins` after `DefaultPlugins`: the plugin draws only when Bevy's PBR
+//! renderer is already in the app (a headless app simulates without drawing).
 //!
 //! Click-to-ignite uses Bevy's mesh picking: the plugin adds `MeshPickingPlugin` when
 //! picking is present (as with `DefaultPlugins`). [`ClickToIgnite`] turns it off.
 
+pub mod material;
 pub mod vertices;
+
+pub use material::{BurnExtension, BurnLook, BurningClothMaterial, burning_cloth_material};
 
 use crate::plugin::{ClothParticles, ClothScratch, ClothTopology, Ignite};
 use crate::sim::BurnMaterial;
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
+use bevy::pbr::{MaterialPlugin, PbrPlugin};
 use bevy::picking::PickingPlugin;
 use bevy::picking::mesh_picking::MeshPickingPlugin;
 use bevy::prelude::*;
@@ -29,30 +38,27 @@ pub struct ClothRenderPlugin;
 
 impl Plugin for ClothRenderPlugin {
     fn build(&self, app: &mut App) {
-        if app.is_plugin_added::<PickingPlugin>() && !app.is_plugin_added::<MeshPickingPlugin>() {
-            app.add_plugins(MeshPickingPlugin);
-        }
         app.init_resource::<ClickToIgnite>()
             .add_observer(ignite_on_click);
-    }
-
-    fn finish(&self, app: &mut App) {
-        // Without assets and a renderer (a headless app) there is nothing to draw into.
-        if !app.world().contains_resource::<Assets<Mesh>>()
-            || !app.world().contains_resource::<Assets<StandardMaterial>>()
-        {
+        if !app.is_plugin_added::<PbrPlugin>() {
             info!(
-                "ClothRenderPlugin: no mesh or material assets in this app, cloths are not drawn"
+                "ClothRenderPlugin: no PbrPlugin in this app (headless, or added before \
+                 DefaultPlugins): cloths are simulated but not drawn"
             );
             return;
         }
-        app.add_systems(
-            PostUpdate,
-            (attach_cloth_meshes, sync_cloth_meshes)
-                .chain()
-                .after(bevy::transform::TransformSystems::Propagate)
-                .run_if(any_with_component::<ClothParticles>),
-        );
+        if app.is_plugin_added::<PickingPlugin>() && !app.is_plugin_added::<MeshPickingPlugin>() {
+            app.add_plugins(MeshPickingPlugin);
+        }
+        material::load_shader(app);
+        app.add_plugins(MaterialPlugin::<BurningClothMaterial>::default())
+            .add_systems(
+                PostUpdate,
+                (attach_cloth_meshes, sync_cloth_meshes)
+                    .chain()
+                    .after(bevy::transform::TransformSystems::Propagate)
+                    .run_if(any_with_component::<ClothParticles>),
+            );
     }
 }
 
@@ -74,26 +80,20 @@ impl Default for ClickToIgnite {
 pub struct ClothMesh {
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
-    colours: Vec<[f32; 4]>,
-}
-
-/// Converts a material's sRGB colour to a Bevy colour.
-pub fn material_colour(material: &BurnMaterial) -> Color {
-    let [r, g, b] = material.base_colour;
-    Color::srgb(r, g, b)
+    burn: Vec<[f32; 2]>,
 }
 
 fn attach_cloth_meshes(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
+    mut materials: ResMut<Assets<BurningClothMaterial>>,
     cloths: Query<
         (
             Entity,
             &ClothParticles,
             &ClothTopology,
             &BurnMaterial,
-            Has<MeshMaterial3d<StandardMaterial>>,
+            Has<MeshMaterial3d<BurningClothMaterial>>,
         ),
         Added<ClothTopology>,
     >,
@@ -108,18 +108,14 @@ fn attach_cloth_meshes(
         .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0f32; 3]; n])
         .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; n])
         .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uv)
-        .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, vec![[1.0f32; 4]; n])
+        .with_inserted_attribute(Mesh::ATTRIBUTE_UV_1, vec![[0.0f32; 2]; n])
         .with_inserted_indices(Indices::U32(topology.live_indices.clone()));
         let mut entity_commands = commands.entity(entity);
         entity_commands.insert((Mesh3d(meshes.add(mesh)), ClothMesh::default()));
         if !has_material {
-            entity_commands.insert(MeshMaterial3d(materials.add(StandardMaterial {
-                base_color: material_colour(material),
-                perceptual_roughness: 0.85,
-                double_sided: true,
-                cull_mode: None,
-                ..default()
-            })));
+            entity_commands.insert(MeshMaterial3d(
+                materials.add(burning_cloth_material(material)),
+            ));
         }
     }
 }
@@ -150,13 +146,13 @@ fn sync_cloth_meshes(
             &topology.live_indices,
             &mut buffers.normals,
         );
-        vertices::burn_colours(particles, &scratch.material, &mut buffers.colours);
+        vertices::burn_attributes(particles, &scratch.material, &mut buffers.burn);
         write_attribute(&mut mesh, Mesh::ATTRIBUTE_POSITION, &buffers.positions);
         write_attribute(&mut mesh, Mesh::ATTRIBUTE_NORMAL, &buffers.normals);
-        if let Some(VertexAttributeValues::Float32x4(colours)) =
-            mesh.attribute_mut(Mesh::ATTRIBUTE_COLOR)
+        if let Some(VertexAttributeValues::Float32x2(burn)) =
+            mesh.attribute_mut(Mesh::ATTRIBUTE_UV_1)
         {
-            copy_into(colours, &buffers.colours);
+            copy_into(burn, &buffers.burn);
         }
         if let Some(Indices::U32(indices)) = mesh.indices_mut() {
             copy_into(indices, &topology.live_indices);

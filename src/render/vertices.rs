@@ -39,47 +39,32 @@ pub fn vertex_normals(positions: &[[f32; 3]], indices: &[u32], out: &mut Vec<[f3
     }
 }
 
-/// Colour a particle multiplies the cloth's colour by, linear RGBA.
-///
-/// White while cold; browning to scorch as it heats toward ignition; on fire, glowing
-/// orange at ignition darkening to black char as it nears the burnt temperature.
-pub fn burn_colour(temperature: f32, state: BurnState, material: &BurnMaterial) -> [f32; 4] {
-    const SCORCH: Vec3 = Vec3::new(0.45, 0.30, 0.18);
-    const EMBER: Vec3 = Vec3::new(1.6, 0.55, 0.08);
-    const CHAR: Vec3 = Vec3::new(0.03, 0.025, 0.02);
-    let fraction = |t: f32, from: f32, to: f32| ((t - from) / (to - from)).clamp(0.0, 1.0);
-    let colour = match state {
-        BurnState::Burnt => CHAR,
-        BurnState::Intact => Vec3::ONE.lerp(
-            SCORCH,
-            fraction(
-                temperature,
-                material.initial_temperature,
-                material.ignition_temperature,
-            ),
-        ),
-        BurnState::Ignited => EMBER.lerp(
-            CHAR,
-            fraction(
-                temperature,
-                material.ignition_temperature,
-                material.burnt_temperature,
-            )
-            .sqrt(),
-        ),
-    };
-    [colour.x, colour.y, colour.z, 1.0]
+/// Burn data of a particle for the shader, `[heat, burn]`, each in [0, 1]:
+/// `heat` rises from the initial to the ignition temperature (scorch), `burn` from the
+/// ignition to the burnt temperature (char, glow, and the cut where it passes the
+/// material's threshold). A burnt particle is `[1, 1]`.
+pub fn burn_attribute(temperature: f32, state: BurnState, material: &BurnMaterial) -> [f32; 2] {
+    let fraction = |from: f32, to: f32| ((temperature - from) / (to - from)).clamp(0.0, 1.0);
+    let heat = fraction(material.initial_temperature, material.ignition_temperature);
+    match state {
+        BurnState::Burnt => [1.0, 1.0],
+        BurnState::Intact => [heat, 0.0],
+        BurnState::Ignited => [
+            heat,
+            fraction(material.ignition_temperature, material.burnt_temperature),
+        ],
+    }
 }
 
-/// Writes [`burn_colour`] for every particle.
-pub fn burn_colours(particles: &Particles, material: &BurnMaterial, out: &mut Vec<[f32; 4]>) {
+/// Writes [`burn_attribute`] for every particle.
+pub fn burn_attributes(particles: &Particles, material: &BurnMaterial, out: &mut Vec<[f32; 2]>) {
     out.clear();
     out.extend(
         particles
             .temperature
             .iter()
             .zip(&particles.state)
-            .map(|(&t, &s)| burn_colour(t, s, material)),
+            .map(|(&t, &s)| burn_attribute(t, s, material)),
     );
 }
 
@@ -104,18 +89,18 @@ mod tests {
     }
 
     #[test]
-    fn colour_goes_from_white_through_scorch_and_glow_to_char() {
+    fn burn_data_runs_from_cold_through_ignition_to_burnt() {
         let m = BurnMaterial::COTTON;
-        let cold = burn_colour(m.initial_temperature, BurnState::Intact, &m);
-        assert_eq!(cold, [1.0, 1.0, 1.0, 1.0]);
-        let hot = burn_colour(m.ignition_temperature - 1.0, BurnState::Intact, &m);
-        assert!(hot[2] < 0.3, "scorched toward brown: {hot:?}");
-        let lit = burn_colour(m.ignition_temperature + 1.0, BurnState::Ignited, &m);
-        assert!(
-            lit[0] > 1.0 && lit[0] > 2.0 * lit[2],
-            "glowing orange: {lit:?}"
+        assert_eq!(
+            burn_attribute(m.initial_temperature, BurnState::Intact, &m),
+            [0.0, 0.0]
         );
-        let charred = burn_colour(m.burnt_temperature, BurnState::Ignited, &m);
-        assert!(charred[0] < 0.05, "char: {charred:?}");
+        let [heat, burn] = burn_attribute(m.ignition_temperature, BurnState::Intact, &m);
+        assert_eq!((heat, burn), (1.0, 0.0));
+        let middle = 0.5 * (m.ignition_temperature + m.burnt_temperature);
+        let [_, burn] = burn_attribute(middle, BurnState::Ignited, &m);
+        assert!((burn - 0.5).abs() < 1e-5);
+        assert_eq!(burn_attribute(-50.0, BurnState::Burnt, &m), [1.0, 1.0]);
+        assert_eq!(burn_attribute(f32::MAX, BurnState::Ignited, &m), [1.0, 1.0]);
     }
 }
