@@ -41,8 +41,6 @@
 
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
-// Bevy system queries are tuples by design; naming each one would hide what a system reads.
-#![allow(clippy::type_complexity)]
 
 pub mod plugin;
 #[cfg(feature = "render")]
@@ -52,14 +50,14 @@ pub mod sim;
 /// The types most users need.
 pub mod prelude {
     pub use crate::plugin::{
-        BurningClothPlugins, BurningClothSystems, ClothBurntOut, ClothEnvironment, ClothIgnited,
-        ClothParticles, ClothSimulationPlugin, ClothSolver, ClothSprings, ClothStatus,
-        ClothSubstepSystems, ClothTopology, Ignite, IgniteAt,
+        BurningClothPlugins, BurningClothSystems, ClothBurntOut, ClothCollider, ClothEnvironment,
+        ClothIgnited, ClothParticles, ClothSimulationPlugin, ClothSolver, ClothSprings,
+        ClothStatus, ClothSubstepSystems, ClothTopology, Ignite, IgniteAt,
     };
     #[cfg(feature = "render")]
     pub use crate::render::ClothRenderPlugin;
     pub use crate::sim::{
-        BurnMaterial, BurnState, ClothBuilder, ClothError, GridPlane, Integrator, ProvotSettings,
-        SolverSettings,
+        BurnMaterial, BurnState, ClothBuilder, ClothError, ColliderShape, Cutout, GridPlane,
+        Integrator, ProvotSettings, SolverSettings,
     };
 }

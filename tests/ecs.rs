@@ -167,3 +167,26 @@ fn systems_do_no_work_until_a_cloth_exists() {
     }
     assert!(app.world().resource::<SubstepsRun>().0 > 0);
 }
+
+#[test]
+fn a_falling_cloth_lands_on_a_collider_entity() {
+    let mut app = app();
+    app.world_mut()
+        .spawn((ClothCollider::plane(), Transform::from_xyz(0.0, 0.5, 0.0)));
+    let cloth = app
+        .world_mut()
+        .spawn((
+            ClothBuilder::grid(8, 8, 0.05).in_plane(GridPlane::Horizontal),
+            BurnMaterial::COTTON,
+            Transform::from_xyz(0.0, 1.0, 0.0),
+        ))
+        .id();
+    for _ in 0..64 * 2 {
+        app.update();
+    }
+    let particles = app.world().get::<ClothParticles>(cloth).unwrap();
+    for p in &particles.position {
+        assert!(p.y >= 0.5, "fell through the floor collider: {p}");
+        assert!(p.y < 0.55, "did not land: {p}");
+    }
+}

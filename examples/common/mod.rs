@@ -12,6 +12,7 @@ use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 use bevy::time::TimeUpdateStrategy;
+use bevy_burning_cloth::prelude::*;
 use std::time::Duration;
 
 /// Frames, target file and required pixel classes of a check run.
@@ -118,6 +119,8 @@ fn spawn_stage(
         ..default()
     });
     commands.spawn((
+        // The floor: burnt-loose pieces land on it.
+        ClothCollider::plane(),
         Mesh3d(meshes.add(Plane3d::default().mesh().size(12.0, 12.0))),
         MeshMaterial3d(materials.add(StandardMaterial {
             base_color: Color::srgb(0.42, 0.38, 0.33),

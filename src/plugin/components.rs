@@ -100,6 +100,53 @@ impl ClothStatus {
     }
 }
 
+/// A collider every cloth rests on and drapes over: put it on any entity with a
+/// [`Transform`] (a rod, a table top, the floor). Rigid; the transform's scale is ignored.
+/// A shape with NaN, infinite or negative dimensions is skipped with a warning.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[require(Transform)]
+pub struct ClothCollider {
+    /// The shape in the entity's frame.
+    pub shape: sim::ColliderShape,
+    /// Fraction of sliding velocity removed on contact per substep, in [0, 1].
+    pub friction: f32,
+}
+
+impl ClothCollider {
+    /// A sphere of `radius` metres.
+    pub fn sphere(radius: f32) -> Self {
+        Self {
+            shape: sim::ColliderShape::Sphere { radius },
+            friction: 0.5,
+        }
+    }
+
+    /// A capsule along the entity's local Y axis, `length` metres between its cap centres.
+    pub fn capsule(length: f32, radius: f32) -> Self {
+        Self {
+            shape: sim::ColliderShape::Capsule {
+                half_length: 0.5 * length,
+                radius,
+            },
+            friction: 0.5,
+        }
+    }
+
+    /// The half-space below the entity's local XZ plane: a floor.
+    pub fn plane() -> Self {
+        Self {
+            shape: sim::ColliderShape::Plane,
+            friction: 0.6,
+        }
+    }
+
+    /// Sets the friction.
+    pub fn with_friction(mut self, friction: f32) -> Self {
+        self.friction = friction;
+        self
+    }
+}
+
 /// Ignitions asked for before the cloth was built; applied when it is.
 #[derive(Component, Clone, Debug, Default)]
 pub(crate) struct PendingIgnitions(pub(crate) Vec<crate::plugin::Ignite>);

@@ -13,7 +13,8 @@ mod schedule;
 mod systems;
 
 pub use components::{
-    ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus, ClothTopology,
+    ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
+    ClothTopology,
 };
 pub use events::{ClothBurntOut, ClothIgnited, Ignite, IgniteAt};
 pub use schedule::{
@@ -31,6 +32,10 @@ use bevy::transform::TransformSystems;
 /// logged and the previous values kept.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Deref, DerefMut)]
 pub struct ClothEnvironment(pub sim::Environment);
+
+/// Every [`ClothCollider`] in world space, gathered once per step.
+#[derive(Resource, Clone, Debug, Default)]
+pub struct ClothColliders(pub Vec<sim::WorldCollider>);
 
 /// Every plugin of the crate. Add it once:
 ///
@@ -96,6 +101,7 @@ impl Plugin for ClothSimulationPlugin {
         }
         app.init_resource::<ClothEnvironment>()
             .init_resource::<SubstepCounter>()
+            .init_resource::<ClothColliders>()
             .add_observer(events::on_ignite);
 
         let mut substep = Schedule::new(ClothSubstepSchedule);
@@ -131,7 +137,8 @@ impl Plugin for ClothSimulationPlugin {
         .add_systems(
             self.schedule,
             (
-                systems::prepare_cloths.in_set(BurningClothSystems::Prepare),
+                (systems::gather_colliders, systems::prepare_cloths)
+                    .in_set(BurningClothSystems::Prepare),
                 systems::spread_heat.in_set(BurningClothSystems::Heat),
                 systems::combust.in_set(BurningClothSystems::Combust),
                 systems::run_substeps.in_set(BurningClothSystems::Simulate),

@@ -1,16 +1,16 @@
 //! The simulation systems: each is a thin loop over cloths calling a phase of
 //! [`crate::sim::cloth`].
 
-use super::ClothEnvironment;
 use super::components::{
-    ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus, ClothTopology,
-    PendingIgnitions,
+    ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
+    ClothTopology, PendingIgnitions,
 };
 use super::events::{ClothBurntOut, ClothIgnited, apply_ignition};
 use super::schedule::{ClothSubstepSchedule, SubstepCounter};
+use super::{ClothColliders, ClothEnvironment};
 use crate::sim::cloth::{
-    combust_phase, constrain_phase, cull_phase, force_params, heat_params, heat_phase,
-    integrate_phase,
+    collide_phase, combust_phase, constrain_phase, cull_phase, force_params, heat_params,
+    heat_phase, integrate_phase,
 };
 use crate::sim::integrate::drive_pins;
 use crate::sim::{BurnMaterial, BurnState, ClothBuilder};
@@ -141,6 +141,32 @@ pub(crate) fn prepare_cloths(
     }
 }
 
+/// Collects every [`ClothCollider`] in world space for this step.
+pub(crate) fn gather_colliders(
+    mut cache: ResMut<ClothColliders>,
+    colliders: Query<(Entity, &ClothCollider, &GlobalTransform)>,
+) {
+    cache.0.clear();
+    for (entity, collider, transform) in &colliders {
+        let affine = transform.affine();
+        let valid = collider.shape.is_valid()
+            && collider.friction.is_finite()
+            && affine.matrix3.is_finite()
+            && affine.translation.is_finite();
+        if !valid {
+            warn_once!("ClothCollider on {entity} skipped: invalid shape, friction or transform");
+            continue;
+        }
+        // Keep rotation and translation only: colliders are rigid.
+        let (_, rotation, translation) = transform.to_scale_rotation_translation();
+        cache.0.push(crate::sim::WorldCollider {
+            shape: collider.shape,
+            transform: bevy::math::Affine3A::from_rotation_translation(rotation, translation),
+            friction: collider.friction,
+        });
+    }
+}
+
 /// Spreads heat on every cloth.
 pub(crate) fn spread_heat(
     time: Res<Time>,
@@ -251,18 +277,20 @@ pub(crate) fn integrate_cloths(
     }
 }
 
-/// Applies Provot's correction to each cloth taking part in this substep.
+/// Applies Provot's correction and the colliders to each cloth taking part in this substep.
 pub(crate) fn constrain_cloths(
     time: Res<Time>,
     counter: Res<SubstepCounter>,
+    colliders: Res<ClothColliders>,
     mut cloths: Query<(
         &mut ClothParticles,
         &ClothSprings,
+        &ClothTopology,
         &mut ClothScratch,
         &ClothStatus,
     )>,
 ) {
-    for (mut particles, springs, mut scratch, status) in &mut cloths {
+    for (mut particles, springs, topology, mut scratch, status) in &mut cloths {
         if counter.index >= status.substeps {
             continue;
         }
@@ -275,6 +303,7 @@ pub(crate) fn constrain_cloths(
             &mut scratch.workspace,
             h,
         );
+        collide_phase(&mut particles, &colliders.0, &scratch.solver, topology);
     }
 }
 

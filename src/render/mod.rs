@@ -52,6 +52,8 @@ impl Plugin for ClothRenderPlugin {
         }
         material::load_shader(app);
         app.add_plugins(MaterialPlugin::<BurningClothMaterial>::default())
+            .init_resource::<IgniteMarkerAssets>()
+            .add_systems(Update, fade_ignite_markers)
             .add_systems(
                 PostUpdate,
                 (attach_cloth_meshes, sync_cloth_meshes)
@@ -179,6 +181,7 @@ fn copy_into<T: Copy>(target: &mut Vec<T>, source: &[T]) {
 fn ignite_on_click(
     click: On<Pointer<Click>>,
     settings: Res<ClickToIgnite>,
+    marker: Option<Res<IgniteMarkerAssets>>,
     cloths: Query<(), With<ClothParticles>>,
     mut commands: Commands,
 ) {
@@ -189,5 +192,63 @@ fn ignite_on_click(
         && let Some(point) = click.event.hit.position
     {
         commands.trigger(Ignite::at_world_point(click.entity, point));
+        if let Some(marker) = marker {
+            commands.spawn((
+                IgniteMarker { age: 0.0 },
+                Mesh3d(marker.mesh.clone()),
+                MeshMaterial3d(marker.material.clone()),
+                Transform::from_translation(point),
+                bevy::light::NotShadowCaster,
+                Pickable::IGNORE,
+            ));
+        }
+    }
+}
+
+/// How long an ignite marker shows, s.
+const IGNITE_MARKER_SECONDS: f32 = 0.6;
+
+/// A glowing dot where a click set a cloth alight; it swells and vanishes.
+#[derive(Component, Debug)]
+pub struct IgniteMarker {
+    age: f32,
+}
+
+/// Mesh and material shared by every ignite marker.
+#[derive(Resource, Debug)]
+struct IgniteMarkerAssets {
+    mesh: Handle<Mesh>,
+    material: Handle<StandardMaterial>,
+}
+
+impl FromWorld for IgniteMarkerAssets {
+    fn from_world(world: &mut World) -> Self {
+        let mesh = world
+            .resource_mut::<Assets<Mesh>>()
+            .add(Sphere::new(0.02).mesh().uv(16, 8));
+        let material = world
+            .resource_mut::<Assets<StandardMaterial>>()
+            .add(StandardMaterial {
+                base_color: Color::srgb(1.0, 0.6, 0.1),
+                unlit: true,
+                ..default()
+            });
+        Self { mesh, material }
+    }
+}
+
+fn fade_ignite_markers(
+    time: Res<Time>,
+    mut commands: Commands,
+    mut markers: Query<(Entity, &mut IgniteMarker, &mut Transform)>,
+) {
+    for (entity, mut marker, mut transform) in &mut markers {
+        marker.age += time.delta_secs();
+        let t = marker.age / IGNITE_MARKER_SECONDS;
+        if t >= 1.0 {
+            commands.entity(entity).despawn();
+        } else {
+            transform.scale = Vec3::splat(1.0 + 2.0 * t) * (1.0 - t * t);
+        }
     }
 }

@@ -4,10 +4,11 @@
 //! A fixed step of `dt` seconds runs, in order:
 //! 1. [`heat_phase`]: the paper's heat push, self-heating and proximity heating;
 //! 2. [`combust_phase`]: ignition and burning by temperature, rest lengths shrink;
-//! 3. `substeps` × [`dynamics_substep`]: pins follow their anchors, forces and integration,
-//!    then Provot's correction;
+//! 3. pins follow their anchors, then `substeps` × [`dynamics_substep`] (forces and
+//!    integration, then Provot's correction) and [`collide_phase`];
 //! 4. [`cull_phase`]: the index list keeps the triangles with three unburnt particles.
 
+use super::collision::{WorldCollider, resolve_collisions};
 use super::combustion::{CombustionReport, shrink_rest_lengths, update_burn_states};
 use super::error::ClothError;
 use super::forces::ForceParams;
@@ -37,6 +38,8 @@ pub struct SolverSettings {
     pub provot: Option<ProvotSettings>,
     /// Proximity heating radius as a multiple of the grid spacing; 0 turns it off.
     pub proximity_radius_factor: f32,
+    /// Distance particles keep from colliders, as a multiple of the grid spacing.
+    pub collision_margin_factor: f32,
 }
 
 impl Default for SolverSettings {
@@ -48,6 +51,7 @@ impl Default for SolverSettings {
             stability_safety: 0.8,
             provot: Some(ProvotSettings::default()),
             proximity_radius_factor: 0.6,
+            collision_margin_factor: 0.3,
         }
     }
 }
@@ -67,6 +71,9 @@ impl SolverSettings {
         }
         if !(self.proximity_radius_factor.is_finite() && self.proximity_radius_factor >= 0.0) {
             return invalid("proximity_radius_factor", self.proximity_radius_factor);
+        }
+        if !(self.collision_margin_factor.is_finite() && self.collision_margin_factor >= 0.0) {
+            return invalid("collision_margin_factor", self.collision_margin_factor);
         }
         if let Some(provot) = self.provot
             && !(provot.max_stretch.is_finite() && provot.max_stretch >= 0.0)
@@ -281,6 +288,20 @@ pub fn dynamics_substep(
     constrain_phase(particles, springs, solver.provot, workspace, h)
 }
 
+/// Collision phase of a substep: push particles out of colliders.
+pub fn collide_phase(
+    particles: &mut Particles,
+    colliders: &[WorldCollider],
+    solver: &SolverSettings,
+    topology: &Topology,
+) {
+    resolve_collisions(
+        particles,
+        colliders,
+        solver.collision_margin_factor * topology.spacing,
+    );
+}
+
 /// Cull phase: rebuild the live index list from burn states.
 pub fn cull_phase(particles: &Particles, topology: &mut Topology) {
     cull_triangles(
@@ -353,6 +374,8 @@ pub struct ClothSim {
     pub environment: Environment,
     /// Where the cloth's anchors are placed in the world.
     pub transform: Affine3A,
+    /// Colliders in the world.
+    pub colliders: Vec<WorldCollider>,
     /// Scratch memory.
     pub workspace: ClothWorkspace,
     /// Simulated time, s.
@@ -380,6 +403,7 @@ impl ClothSim {
             solver: SolverSettings::default(),
             environment: Environment::default(),
             transform,
+            colliders: Vec::new(),
             workspace: ClothWorkspace::default(),
             time: 0.0,
         }
@@ -395,6 +419,11 @@ impl ClothSim {
         let index = nearest_unburnt_particle(&self.particles, point)?;
         self.ignite(index)?;
         Ok(index)
+    }
+
+    /// Distance particles keep from colliders, m.
+    pub fn collision_margin(&self) -> f32 {
+        self.solver.collision_margin_factor * self.topology.spacing
     }
 
     /// Substeps a fixed step of `dt` seconds would use.
@@ -445,6 +474,12 @@ impl ClothSim {
                 &self.solver,
                 &mut self.workspace,
                 h,
+            );
+            collide_phase(
+                &mut self.particles,
+                &self.colliders,
+                &self.solver,
+                &self.topology,
             );
         }
         cull_phase(&self.particles, &mut self.topology);

@@ -20,6 +20,44 @@ pub enum GridPlane {
     Horizontal,
 }
 
+/// A region cut out of a grid cloth before it is simulated, in metres in the cloth's plane
+/// measured from the top-left particle (x along the columns, y along the rows).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cutout {
+    /// A disc.
+    Disc {
+        /// Centre, m.
+        centre: Vec2,
+        /// Radius, m.
+        radius: f32,
+    },
+    /// A triangle.
+    Triangle([Vec2; 3]),
+}
+
+impl Cutout {
+    /// True when `point` (m, in the cloth's plane) lies inside.
+    pub fn contains(&self, point: Vec2) -> bool {
+        match *self {
+            Self::Disc { centre, radius } => point.distance_squared(centre) <= radius * radius,
+            Self::Triangle([a, b, c]) => {
+                let side = |p: Vec2, q: Vec2| (q - p).perp_dot(point - p);
+                let (d1, d2, d3) = (side(a, b), side(b, c), side(c, a));
+                let negative = d1 < 0.0 || d2 < 0.0 || d3 < 0.0;
+                let positive = d1 > 0.0 || d2 > 0.0 || d3 > 0.0;
+                !(negative && positive)
+            }
+        }
+    }
+
+    fn is_finite(&self) -> bool {
+        match self {
+            Self::Disc { centre, radius } => centre.is_finite() && radius.is_finite(),
+            Self::Triangle(corners) => corners.iter().all(|c| c.is_finite()),
+        }
+    }
+}
+
 /// A description of a grid cloth, turned into particles and springs by [`ClothBuilder::build`].
 ///
 /// ```
@@ -45,6 +83,9 @@ pub struct ClothBuilder {
     pub plane: GridPlane,
     /// Total mass in kg; `None` takes it from the material's areal density.
     pub total_mass: Option<f32>,
+    /// Regions removed from the cloth: their particles start burnt (they count as burnt in
+    /// [`Particles::burnt_fraction`]), so they take no part in forces, heat or drawing.
+    pub cutouts: Vec<Cutout>,
 }
 
 /// The simulation data of a built cloth.
@@ -68,7 +109,14 @@ impl ClothBuilder {
             pins: Vec::new(),
             plane: GridPlane::Vertical,
             total_mass: None,
+            cutouts: Vec::new(),
         }
+    }
+
+    /// Cuts a region out of the cloth.
+    pub fn cut_out(mut self, cutout: Cutout) -> Self {
+        self.cutouts.push(cutout);
+        self
     }
 
     /// Pins the particle at `column`, `row` (row 0 is the top).
@@ -156,6 +204,9 @@ impl ClothBuilder {
                 rows: self.rows,
             });
         }
+        if self.cutouts.iter().any(|c| !c.is_finite()) {
+            return Err(ClothError::NonFinitePoint);
+        }
         material.validate()?;
         Ok(())
     }
@@ -208,6 +259,17 @@ impl ClothBuilder {
         for &(column, row) in &self.pins {
             inv_mass[grid.index(column, row)] = 0.0;
         }
+        let mut state = vec![BurnState::Intact; n];
+        if !self.cutouts.is_empty() {
+            for row in 0..self.rows {
+                for column in 0..self.columns {
+                    let point = Vec2::new(column as f32, row as f32) * self.spacing;
+                    if self.cutouts.iter().any(|c| c.contains(point)) {
+                        state[grid.index(column, row)] = BurnState::Burnt;
+                    }
+                }
+            }
+        }
 
         let springs = grid_springs(grid, &position);
         let particles = Particles {
@@ -216,7 +278,7 @@ impl ClothBuilder {
             mass: vec![particle_mass; n],
             inv_mass,
             temperature: vec![material.initial_temperature; n],
-            state: vec![BurnState::Intact; n],
+            state,
             anchor,
             external_force: vec![Vec3::ZERO; n],
         };
@@ -385,6 +447,43 @@ mod tests {
     }
 
     #[test]
+    fn cutouts_remove_particles_and_their_triangles() {
+        let parts = build(
+            &ClothBuilder::grid(21, 21, 0.1)
+                .cut_out(Cutout::Disc {
+                    centre: Vec2::new(1.0, 1.0),
+                    radius: 0.25,
+                })
+                // Enlarged by 0.01 m so no lattice point lies exactly on an edge.
+                .cut_out(Cutout::Triangle([
+                    Vec2::new(-0.01, 2.01),
+                    Vec2::new(0.52, 2.01),
+                    Vec2::new(-0.01, 1.48),
+                ])),
+        );
+        let grid = parts.topology.grid.unwrap();
+        let state = &parts.particles.state;
+        assert!(state[grid.index(10, 10)].is_burnt(), "disc centre");
+        assert!(
+            state[grid.index(12, 10)].is_burnt(),
+            "0.2 m from the centre"
+        );
+        assert!(
+            !state[grid.index(13, 10)].is_burnt(),
+            "0.3 m from the centre"
+        );
+        assert!(state[grid.index(1, 19)].is_burnt(), "inside the triangle");
+        assert!(!state[grid.index(5, 16)].is_burnt(), "outside the triangle");
+        // Disc of radius 2.5 cells: 5 + 2 × 5 + 2 × 3 = 21 lattice points. Triangle with legs
+        // of 5 cells: rows of 6, 5, 4, 3, 2, 1 points = 21.
+        let burnt = state.iter().filter(|s| s.is_burnt()).count();
+        assert_eq!(burnt, 21 + 21);
+        for &i in &parts.topology.live_indices {
+            assert!(!state[i as usize].is_burnt());
+        }
+    }
+
+    #[test]
     fn invalid_input_is_an_error_not_a_panic() {
         let material = BurnMaterial::COTTON;
         let cases = [
@@ -397,6 +496,10 @@ mod tests {
             ClothBuilder::grid(10, 10, 0.1).with_total_mass(f32::NAN),
             ClothBuilder::grid(10, 10, 0.1).pin(10, 0),
             ClothBuilder::grid(u32::MAX, u32::MAX, 0.1),
+            ClothBuilder::grid(4, 4, 0.1).cut_out(Cutout::Disc {
+                centre: Vec2::NAN,
+                radius: 1.0,
+            }),
         ];
         for builder in cases {
             let error = builder.build(&material, Affine3A::IDENTITY).unwrap_err();

@@ -14,6 +14,7 @@
 //! | [`integrate`] | explicit Euler, symplectic Euler, Verlet; the stability limit |
 //! | [`provot`] | Provot's stretch correction |
 //! | [`heat`] | the paper's upward-biased heat push and proximity heating |
+//! | [`collision`] | sphere, capsule and plane colliders |
 //! | [`combustion`] | ignition, burning, rest-length shrink |
 //! | [`spatial_hash`] | the O(n) neighbour search behind proximity heating |
 //! | [`topology`] | triangles and culling of burnt ones |
@@ -26,6 +27,7 @@
 //! [`SolverSettings`] picks from the stability limit unless told otherwise.
 
 pub mod cloth;
+pub mod collision;
 pub mod combustion;
 pub mod error;
 pub mod forces;
@@ -40,10 +42,11 @@ pub mod springs;
 pub mod topology;
 
 pub use cloth::{ClothSim, ClothWorkspace, Environment, SolverSettings, StepReport};
+pub use collision::{ColliderShape, WorldCollider};
 pub use combustion::CombustionReport;
 pub use error::ClothError;
 pub use forces::ForceParams;
-pub use grid::{ClothBuilder, ClothParts, GridPlane};
+pub use grid::{ClothBuilder, ClothParts, Cutout, GridPlane};
 pub use integrate::Integrator;
 pub use material::{BurnMaterial, MaterialError};
 pub use particles::{BurnState, Particles};
