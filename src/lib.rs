@@ -45,14 +45,15 @@
 pub mod plugin;
 #[cfg(feature = "render")]
 pub mod render;
+pub mod report;
 pub mod sim;
 
 /// The types most users need.
 pub mod prelude {
     pub use crate::plugin::{
         BurningClothPlugins, BurningClothSystems, ClothBurntOut, ClothCollider, ClothEnvironment,
-        ClothIgnited, ClothParticles, ClothSimulationPlugin, ClothSolver, ClothSprings,
-        ClothStatus, ClothSubstepSystems, ClothTopology, Ignite, IgniteAt,
+        ClothIgnited, ClothInstability, ClothParticles, ClothSimulationPlugin, ClothSolver,
+        ClothSprings, ClothStatus, ClothSubstepSystems, ClothTopology, Ignite, IgniteAt,
     };
     #[cfg(feature = "render")]
     pub use crate::render::ClothRenderPlugin;

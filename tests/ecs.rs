@@ -190,3 +190,47 @@ fn a_falling_cloth_lands_on_a_collider_entity() {
         assert!(p.y < 0.55, "did not land: {p}");
     }
 }
+
+#[test]
+fn a_cloth_too_stiff_for_its_substeps_stays_finite_and_says_so() {
+    let mut app = app();
+    #[derive(Resource, Default)]
+    struct Repaired(u32);
+    app.init_resource::<Repaired>().add_observer(
+        |event: On<ClothInstability>, mut repaired: ResMut<Repaired>| {
+            repaired.0 += event.repaired;
+        },
+    );
+    let stiff = BurnMaterial {
+        structural_stiffness: 1.0e7,
+        shear_stiffness: 1.0e7,
+        ..BurnMaterial::SILK
+    };
+    let cloth = app
+        .world_mut()
+        .spawn((
+            ClothBuilder::grid(10, 10, 0.03).pin_top_corners(),
+            stiff,
+            Transform::from_xyz(0.0, 1.0, 0.0),
+        ))
+        .id();
+    // Kick it so the stiff springs have something to do.
+    app.update();
+    app.world_mut()
+        .get_mut::<ClothParticles>(cloth)
+        .unwrap()
+        .velocity
+        .fill(Vec3::new(0.0, 0.0, 1.0));
+    for _ in 0..60 {
+        app.update();
+    }
+    let status = *app.world().get::<ClothStatus>(cloth).unwrap();
+    assert!(status.repairs > 0, "the guard never had to act: {status:?}");
+    assert_eq!(app.world().resource::<Repaired>().0, status.repairs);
+    assert!(
+        app.world()
+            .get::<ClothParticles>(cloth)
+            .unwrap()
+            .is_finite()
+    );
+}

@@ -87,6 +87,8 @@ pub struct ClothStatus {
     pub substeps: u32,
     /// True from the first ignition until the fire goes out.
     pub burning: bool,
+    /// Particles the blow-up guard has put back since the cloth was built.
+    pub repairs: u32,
 }
 
 impl ClothStatus {

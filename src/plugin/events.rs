@@ -74,6 +74,18 @@ pub struct ClothBurntOut {
     pub burnt_fraction: f32,
 }
 
+/// Triggered on a cloth when the blow-up guard had to put particles back this step: the
+/// solver went past its stability limit (stiffness too high for the substeps, a violent
+/// impulse) or something wrote NaN into the cloth. The cloth stays finite; raise substeps,
+/// lower stiffness, or look for the NaN.
+#[derive(EntityEvent, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClothInstability {
+    /// The cloth entity.
+    pub entity: Entity,
+    /// Particles put back this step.
+    pub repaired: u32,
+}
+
 /// Applies one ignition to a cloth's particles.
 pub(crate) fn apply_ignition(
     particles: &mut sim::Particles,

@@ -16,7 +16,7 @@ pub use components::{
     ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
     ClothTopology,
 };
-pub use events::{ClothBurntOut, ClothIgnited, Ignite, IgniteAt};
+pub use events::{ClothBurntOut, ClothIgnited, ClothInstability, Ignite, IgniteAt};
 pub use schedule::{
     BurningClothSystems, ClothSubstepSchedule, ClothSubstepSystems, SubstepCounter,
 };
@@ -142,7 +142,9 @@ impl Plugin for ClothSimulationPlugin {
                 systems::spread_heat.in_set(BurningClothSystems::Heat),
                 systems::combust.in_set(BurningClothSystems::Combust),
                 systems::run_substeps.in_set(BurningClothSystems::Simulate),
-                systems::cull_cloths.in_set(BurningClothSystems::Cull),
+                (systems::guard_cloths, systems::cull_cloths)
+                    .chain()
+                    .in_set(BurningClothSystems::Cull),
             ),
         )
         .add_systems(

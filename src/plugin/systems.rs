@@ -5,7 +5,7 @@ use super::components::{
     ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
     ClothTopology, PendingIgnitions,
 };
-use super::events::{ClothBurntOut, ClothIgnited, apply_ignition};
+use super::events::{ClothBurntOut, ClothIgnited, ClothInstability, apply_ignition};
 use super::schedule::{ClothSubstepSchedule, SubstepCounter};
 use super::{ClothColliders, ClothEnvironment};
 use crate::sim::cloth::{
@@ -126,11 +126,17 @@ pub(crate) fn prepare_cloths(
         if environment.validate().is_ok() {
             scratch.environment = environment.0;
         }
-        drive_pins(&mut particles, transform.affine(), dt);
+        let affine = transform.affine();
+        if affine.matrix3.is_finite() && affine.translation.is_finite() {
+            drive_pins(&mut particles, affine, dt);
+        } else {
+            warn_once!("cloth {entity}: non-finite transform, pins left where they were");
+        }
         let params = force_params(&scratch.material, topology, &scratch.environment);
         let ClothScratch {
             workspace, solver, ..
         } = &mut *scratch;
+        workspace.guard.remember(&particles);
         let stable = workspace.stable_step(&particles, springs, &params.coefficients);
         status.substeps = if dt > 0.0 {
             solver.substeps_for(dt, stable)
@@ -304,6 +310,31 @@ pub(crate) fn constrain_cloths(
             h,
         );
         collide_phase(&mut particles, &colliders.0, &scratch.solver, topology);
+    }
+}
+
+/// Puts back particles that went non-finite or ran away, and reports it.
+pub(crate) fn guard_cloths(
+    mut commands: Commands,
+    mut cloths: Query<(Entity, &mut ClothParticles, &ClothScratch, &mut ClothStatus)>,
+) {
+    for (entity, mut particles, scratch, mut status) in &mut cloths {
+        let repaired = scratch.workspace.guard.check(
+            &mut particles,
+            &scratch.solver.guard,
+            scratch.material.initial_temperature,
+        );
+        if repaired > 0 {
+            if status.repairs == 0 {
+                warn!(
+                    "cloth {entity}: {repaired} particles blew up and were put back \
+                     (raise substeps or lower stiffness); further repairs are counted in \
+                     ClothStatus::repairs and reported by ClothInstability"
+                );
+            }
+            status.repairs = status.repairs.saturating_add(repaired);
+            commands.trigger(ClothInstability { entity, repaired });
+        }
     }
 }
 

@@ -6,13 +6,15 @@
 //! 2. [`combust_phase`]: ignition and burning by temperature, rest lengths shrink;
 //! 3. pins follow their anchors, then `substeps` × [`dynamics_substep`] (forces and
 //!    integration, then Provot's correction) and [`collide_phase`];
-//! 4. [`cull_phase`]: the index list keeps the triangles with three unburnt particles.
+//! 4. the blow-up guard puts back particles that went non-finite or ran away;
+//! 5. [`cull_phase`]: the index list keeps the triangles with three unburnt particles.
 
 use super::collision::{WorldCollider, resolve_collisions};
 use super::combustion::{CombustionReport, shrink_rest_lengths, update_burn_states};
 use super::error::ClothError;
 use super::forces::ForceParams;
 use super::grid::{ClothBuilder, ClothParts};
+use super::guard::{BlowUpGuard, GuardSettings};
 use super::heat::{HeatParams, HeatWorkspace, paper_heat_step};
 use super::integrate::{Integrator, IntegratorWorkspace, drive_pins, integrate, stable_time_step};
 use super::material::{BurnMaterial, valid_temperature};
@@ -40,6 +42,8 @@ pub struct SolverSettings {
     pub proximity_radius_factor: f32,
     /// Distance particles keep from colliders, as a multiple of the grid spacing.
     pub collision_margin_factor: f32,
+    /// The blow-up guard's limits.
+    pub guard: GuardSettings,
 }
 
 impl Default for SolverSettings {
@@ -52,6 +56,7 @@ impl Default for SolverSettings {
             provot: Some(ProvotSettings::default()),
             proximity_radius_factor: 0.6,
             collision_margin_factor: 0.3,
+            guard: GuardSettings::default(),
         }
     }
 }
@@ -74,6 +79,9 @@ impl SolverSettings {
         }
         if !(self.collision_margin_factor.is_finite() && self.collision_margin_factor >= 0.0) {
             return invalid("collision_margin_factor", self.collision_margin_factor);
+        }
+        if !(self.guard.max_speed.is_finite() && self.guard.max_speed > 0.0) {
+            return invalid("guard.max_speed", self.guard.max_speed);
         }
         if let Some(provot) = self.provot
             && !(provot.max_stretch.is_finite() && provot.max_stretch >= 0.0)
@@ -147,6 +155,8 @@ pub struct ClothWorkspace {
     pub heat: HeatWorkspace,
     /// Particles burnt in the latest combustion update.
     pub newly_burnt: Vec<u32>,
+    /// Positions at the start of the step, for the blow-up guard.
+    pub guard: BlowUpGuard,
     /// Stable step of the cloth, s, cached by [`ClothWorkspace::stable_step`].
     stable_step: Option<f32>,
 }
@@ -162,6 +172,15 @@ impl ClothWorkspace {
         *self
             .stable_step
             .get_or_insert_with(|| stable_time_step(particles, springs, coefficients))
+    }
+
+    /// Heap memory held by every buffer, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        self.integrator.heap_bytes()
+            + self.provot.heap_bytes()
+            + self.heat.heap_bytes()
+            + self.guard.heap_bytes()
+            + self.newly_burnt.capacity() * size_of::<u32>()
     }
 
     /// Forgets the cached stable step (call after changing masses or stiffness).
@@ -227,6 +246,8 @@ pub fn combust_phase(
     h: f32,
 ) -> CombustionReport {
     workspace.newly_burnt.clear();
+    // Room for every particle once, so a big burn never reallocates mid-game.
+    workspace.newly_burnt.reserve(particles.len());
     let report = update_burn_states(
         &particles.temperature,
         &mut particles.state,
@@ -355,6 +376,8 @@ pub struct StepReport {
     pub combustion: CombustionReport,
     /// Provot's report from the last substep, if enabled.
     pub provot: Option<ProvotReport>,
+    /// Particles the blow-up guard had to put back.
+    pub repaired: u32,
 }
 
 /// A cloth with everything needed to step it, outside any ECS.
@@ -421,6 +444,29 @@ impl ClothSim {
         Ok(index)
     }
 
+    /// Heap memory held by the cloth's data and buffers, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        let p = &self.particles;
+        let vec3 = size_of::<Vec3>();
+        let particles = (p.position.capacity()
+            + p.velocity.capacity()
+            + p.anchor.capacity()
+            + p.external_force.capacity())
+            * vec3
+            + (p.mass.capacity() + p.inv_mass.capacity() + p.temperature.capacity())
+                * size_of::<f32>()
+            + p.state.capacity();
+        let s = &self.springs;
+        let springs = (s.a.capacity() + s.b.capacity()) * size_of::<u32>()
+            + (s.rest_length.capacity() + s.initial_rest_length.capacity()) * size_of::<f32>()
+            + s.kind.capacity();
+        let t = &self.topology;
+        let topology = t.triangles.capacity() * size_of::<[u32; 3]>()
+            + t.uv.capacity() * size_of::<glam::Vec2>()
+            + t.live_indices.capacity() * size_of::<u32>();
+        particles + springs + topology + self.workspace.heap_bytes()
+    }
+
     /// Distance particles keep from colliders, m.
     pub fn collision_margin(&self) -> f32 {
         self.solver.collision_margin_factor * self.topology.spacing
@@ -464,6 +510,7 @@ impl ClothSim {
         let substeps = self.substeps_for(dt);
         let h = dt / substeps as f32;
         drive_pins(&mut self.particles, self.transform, dt);
+        self.workspace.guard.remember(&self.particles);
         let params = force_params(&self.material, &self.topology, &self.environment);
         let mut provot = None;
         for _ in 0..substeps {
@@ -482,12 +529,18 @@ impl ClothSim {
                 &self.topology,
             );
         }
+        let repaired = self.workspace.guard.check(
+            &mut self.particles,
+            &self.solver.guard,
+            self.material.initial_temperature,
+        );
         cull_phase(&self.particles, &mut self.topology);
         self.time += f64::from(dt);
         StepReport {
             substeps,
             combustion,
             provot,
+            repaired,
         }
     }
 }

@@ -94,6 +94,13 @@ pub struct HeatWorkspace {
     pub hash: SpatialHash,
 }
 
+impl HeatWorkspace {
+    /// Heap memory held, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        self.delta.capacity() * size_of::<f32>() + self.hash.heap_bytes()
+    }
+}
+
 /// Adds one step of the paper's neighbour push and self-heating to `delta` (°C).
 pub fn paper_heat_push(
     springs: &Springs,

@@ -60,6 +60,13 @@ pub struct IntegratorWorkspace {
     staggered_for: Option<f32>,
 }
 
+impl IntegratorWorkspace {
+    /// Heap memory held, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        self.force.capacity() * size_of::<Vec3>()
+    }
+}
+
 /// Advances free, unburnt particles by one step of size `h` seconds.
 ///
 /// External forces in `particles.external_force` are applied for this step and then cleared.

@@ -10,6 +10,7 @@
 //! | [`particles`] | [`Particles`], a structure of arrays, and [`BurnState`] |
 //! | [`springs`] | [`Springs`] stored once each, Hooke's law with damping |
 //! | [`grid`] | [`ClothBuilder`]: grid particles, 12 springs per particle, triangles, pins |
+//! | [`guard`] | the blow-up guard: NaN and runaway particles are put back |
 //! | [`forces`] | gravity, springs, air drag, external forces |
 //! | [`integrate`] | explicit Euler, symplectic Euler, Verlet; the stability limit |
 //! | [`provot`] | Provot's stretch correction |
@@ -32,6 +33,7 @@ pub mod combustion;
 pub mod error;
 pub mod forces;
 pub mod grid;
+pub mod guard;
 pub mod heat;
 pub mod integrate;
 pub mod material;
@@ -47,6 +49,7 @@ pub use combustion::CombustionReport;
 pub use error::ClothError;
 pub use forces::ForceParams;
 pub use grid::{ClothBuilder, ClothParts, Cutout, GridPlane};
+pub use guard::{BlowUpGuard, GuardSettings};
 pub use integrate::Integrator;
 pub use material::{BurnMaterial, MaterialError};
 pub use particles::{BurnState, Particles};

@@ -50,6 +50,13 @@ pub struct ProvotWorkspace {
     before: Vec<Vec3>,
 }
 
+impl ProvotWorkspace {
+    /// Heap memory held, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        self.before.capacity() * size_of::<Vec3>()
+    }
+}
+
 /// Applies Provot's correction to structural and shear springs with both ends unburnt.
 /// `h` is the step just taken (s), used for the velocity correction.
 pub fn provot_correct(

@@ -102,6 +102,12 @@ impl SpatialHash {
         }
     }
 
+    /// Heap memory held, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        (self.bucket_start.capacity() + self.entries.capacity() + self.point_bucket.capacity())
+            * size_of::<u32>()
+    }
+
     fn cell_of(&self, p: Vec3) -> IVec3 {
         // Saturating float-to-int casts keep far-away points finite cells.
         (p / self.cell_size).floor().as_ivec3()

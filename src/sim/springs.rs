@@ -75,7 +75,8 @@ impl Springs {
         !state[self.a[s] as usize].is_burnt() && !state[self.b[s] as usize].is_burnt()
     }
 
-    /// Largest length / rest-length ratio over live springs of `kinds`, or 1 if none.
+    /// Largest length / rest-length ratio over live springs of `kinds` with a non-zero rest
+    /// length (a ratio to zero means nothing), or 1 if none.
     pub fn max_stretch(
         &self,
         positions: &[Vec3],
@@ -83,10 +84,12 @@ impl Springs {
         kinds: impl Fn(SpringKind) -> bool,
     ) -> f32 {
         (0..self.len())
-            .filter(|&s| kinds(self.kind[s]) && self.is_live(s, state))
+            .filter(|&s| {
+                kinds(self.kind[s]) && self.is_live(s, state) && self.rest_length[s] > 1e-9
+            })
             .map(|s| {
                 let length = positions[self.a[s] as usize].distance(positions[self.b[s] as usize]);
-                length / self.rest_length[s].max(f32::MIN_POSITIVE)
+                length / self.rest_length[s]
             })
             .fold(1.0, f32::max)
     }

@@ -1,0 +1,8 @@
+//! Studies of the simulation that print tables: plain Rust over [`crate::sim`], shared by the
+//! report examples and the tests that check them.
+//!
+//! | module | what it measures |
+//! |---|---|
+//! | [`stability`] | every integrator against stiff and extreme cases, raw and guarded |
+
+pub mod stability;
