@@ -24,6 +24,9 @@ use super::springs::{SpringCoefficients, Springs};
 use super::topology::{Topology, cull_triangles};
 use glam::{Affine3A, Vec3};
 
+/// Most automatic substeps for an unconditionally stable integrator (XPBD's "small steps").
+pub const UNCONDITIONAL_AUTO_SUBSTEPS: u32 = 10;
+
 /// How the cloth is stepped: integrator, substeps, constraints, proximity heating.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverSettings {
@@ -93,10 +96,19 @@ impl SolverSettings {
 
     /// Substeps for a fixed step of `dt` seconds given the cloth's stable step `stable`:
     /// the fixed count if one is set, else the fewest keeping each substep within
-    /// `stability_safety × stable`, capped at `max_substeps`.
+    /// `stability_safety × stable`, capped at `max_substeps` (for an unconditionally stable
+    /// integrator, capped at [`UNCONDITIONAL_AUTO_SUBSTEPS`] instead: more only adds accuracy).
     pub fn substeps_for(&self, dt: f32, stable: f32) -> u32 {
         if let Some(n) = self.substeps {
             return n.max(1);
+        }
+        if self.integrator.is_unconditionally_stable() {
+            let needed = Self {
+                integrator: Integrator::SymplecticEuler,
+                ..*self
+            }
+            .substeps_for(dt, stable);
+            return needed.min(UNCONDITIONAL_AUTO_SUBSTEPS);
         }
         let allowed = self.stability_safety * stable;
         if !(allowed.is_finite() && allowed > 0.0) {

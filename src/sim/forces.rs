@@ -48,9 +48,9 @@ pub struct ForceModel<'a> {
 }
 
 impl ForceModel<'_> {
-    /// Writes the total force on every particle into `out`, N. Burnt particles get zero,
-    /// and no spring with a burnt end contributes.
-    pub fn eval(&self, position: &[Vec3], velocity: &[Vec3], out: &mut [Vec3]) {
+    /// Writes gravity, air drag and external forces (everything but the springs) into
+    /// `out`, N; zero for burnt particles. Position-based solvers handle springs themselves.
+    pub fn eval_without_springs(&self, velocity: &[Vec3], out: &mut [Vec3]) {
         let params = self.params;
         for i in 0..out.len() {
             out[i] = if self.state[i].is_burnt() {
@@ -61,8 +61,14 @@ impl ForceModel<'_> {
                     + self.external[i]
             };
         }
+    }
+
+    /// Writes the total force on every particle into `out`, N. Burnt particles get zero,
+    /// and no spring with a burnt end contributes.
+    pub fn eval(&self, position: &[Vec3], velocity: &[Vec3], out: &mut [Vec3]) {
+        self.eval_without_springs(velocity, out);
         let springs = self.springs;
-        let coefficients = &params.coefficients;
+        let coefficients = &self.params.coefficients;
         for s in 0..springs.len() {
             let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
             if self.state[a].is_burnt() || self.state[b].is_burnt() {
