@@ -255,6 +255,12 @@ pub(crate) fn prepare_forces(mut cloths: Query<(&ClothTopology, &mut ClothScratc
     }
 }
 
+/// The substep size (s) of a cloth in the running substep, or `None` when the cloth needs
+/// fewer substeps than the neediest one and sits this one out.
+fn substep_size(counter: &SubstepCounter, status: &ClothStatus, dt: f32) -> Option<f32> {
+    (counter.index < status.substeps).then(|| dt / status.substeps as f32)
+}
+
 /// Integrates each cloth that takes part in this substep.
 pub(crate) fn integrate_cloths(
     time: Res<Time>,
@@ -267,10 +273,9 @@ pub(crate) fn integrate_cloths(
     )>,
 ) {
     for (mut particles, springs, mut scratch, status) in &mut cloths {
-        if counter.index >= status.substeps {
+        let Some(h) = substep_size(&counter, status, time.delta_secs()) else {
             continue;
-        }
-        let h = time.delta_secs() / status.substeps as f32;
+        };
         let scratch = &mut *scratch;
         integrate_phase(
             &mut particles,
@@ -297,10 +302,9 @@ pub(crate) fn constrain_cloths(
     )>,
 ) {
     for (mut particles, springs, topology, mut scratch, status) in &mut cloths {
-        if counter.index >= status.substeps {
+        let Some(h) = substep_size(&counter, status, time.delta_secs()) else {
             continue;
-        }
-        let h = time.delta_secs() / status.substeps as f32;
+        };
         let scratch = &mut *scratch;
         constrain_phase(
             &mut particles,
