@@ -3,7 +3,7 @@
 //! | plugin | feature | what it adds |
 //! |---|---|---|
 //! | [`ClothSimulationPlugin`] | always | building cloths, heat, combustion, dynamics, culling, [`Ignite`] |
-//! | [`ClothRenderPlugin`](crate::render::ClothRenderPlugin) | `render` | a dynamic mesh per cloth, click to ignite |
+//! | `ClothRenderPlugin` (module `render`) | `render` | a dynamic mesh per cloth, the burning-cloth material, click to ignite |
 //!
 //! [`BurningClothPlugins`] groups them, so `.build().disable::<X>()` removes one.
 
