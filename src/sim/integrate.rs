@@ -381,23 +381,40 @@ mod tests {
         0.5 * particles.velocity[1].length_squared() + 0.5 * k * x * x
     }
 
+    /// Steps `particles` on the oscillator's spring `steps` times, calling `observe` with the
+    /// step number (from 1) and the particles after each step.
+    fn step_oscillator(
+        integrator: Integrator,
+        particles: &mut Particles,
+        springs: &Springs,
+        params: &ForceParams,
+        h: f32,
+        steps: usize,
+        mut observe: impl FnMut(usize, &Particles),
+    ) {
+        let mut workspace = IntegratorWorkspace::default();
+        for step in 1..=steps {
+            integrate(integrator, particles, springs, params, &mut workspace, h);
+            observe(step, particles);
+        }
+    }
+
     fn run(integrator: Integrator, steps: usize, h: f32) -> (f32, f32, Particles) {
         let k = 100.0;
         let (mut particles, springs, params) = oscillator(k, 0.1);
         let e0 = energy(&particles, k);
-        let mut workspace = IntegratorWorkspace::default();
         let mut max_ratio: f32 = 1.0;
-        for _ in 0..steps {
-            integrate(
-                integrator,
-                &mut particles,
-                &springs,
-                &params,
-                &mut workspace,
-                h,
-            );
-            max_ratio = max_ratio.max(energy(&particles, k) / e0);
-        }
+        step_oscillator(
+            integrator,
+            &mut particles,
+            &springs,
+            &params,
+            h,
+            steps,
+            |_, p| {
+                max_ratio = max_ratio.max(energy(p, k) / e0);
+            },
+        );
         (max_ratio, energy(&particles, k) / e0, particles)
     }
 
@@ -445,21 +462,20 @@ mod tests {
         for p in &mut particles.position {
             p.x -= 1.0;
         }
-        let mut workspace = IntegratorWorkspace::default();
         let steps = (1.0 / h).round() as usize;
         let mut worst: f32 = 0.0;
-        for step in 1..=steps {
-            integrate(
-                integrator,
-                &mut particles,
-                &springs,
-                &params,
-                &mut workspace,
-                h,
-            );
-            let exact = 0.1 * (10.0 * step as f32 * h).cos();
-            worst = worst.max((particles.position[1].x - exact).abs());
-        }
+        step_oscillator(
+            integrator,
+            &mut particles,
+            &springs,
+            &params,
+            h,
+            steps,
+            |step, p| {
+                let exact = 0.1 * (10.0 * step as f32 * h).cos();
+                worst = worst.max((p.position[1].x - exact).abs());
+            },
+        );
         worst
     }
 

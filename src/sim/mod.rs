@@ -12,7 +12,7 @@
 //! | [`grid`] | [`ClothBuilder`]: grid particles, 12 springs per particle, triangles, pins |
 //! | [`guard`] | the blow-up guard: NaN and runaway particles are put back |
 //! | [`forces`] | gravity, springs, air drag, external forces |
-//! | [`integrate`] | explicit Euler, symplectic Euler, Verlet; the stability limit |
+//! | [`integrate`] | explicit Euler, symplectic Euler, Verlet, RK4, XPBD; the stability limit |
 //! | [`provot`] | Provot's stretch correction |
 //! | [`heat`] | the paper's upward-biased heat push and proximity heating |
 //! | [`collision`] | sphere, capsule and plane colliders |
@@ -24,8 +24,9 @@
 //! Units: metres, kilograms, seconds, degrees Celsius.
 //!
 //! Where its accuracy ends: the heat model is the paper's (heat only grows, fire follows
-//! world up by fixed weights); integration is explicit, so stiff cloth needs substeps, which
-//! [`SolverSettings`] picks from the stability limit unless told otherwise.
+//! world up by fixed weights); the explicit integrators need substeps for stiff cloth, which
+//! [`SolverSettings`] picks from the stability limit (up to 64) unless told otherwise, and
+//! XPBD trades accuracy for unconditional stability (see the README's stability matrix).
 
 pub mod cloth;
 pub mod collision;
