@@ -202,3 +202,34 @@ fn a_burnt_particle_is_frozen_while_the_cloth_moves() {
     );
     assert!(sim.particles.is_finite());
 }
+
+/// The physical heat model burns a hanging cloth away too, bottom-lit fire climbing first.
+#[test]
+fn the_physical_heat_model_burns_a_cloth_away() {
+    use bevy_burning_cloth::sim::HeatModel;
+    let mut sim = hanging(16, 16, BurnMaterial::COTTON);
+    sim.solver.heat_model = HeatModel::PHYSICAL;
+    let grid = grid_of(&sim);
+    sim.ignite(grid.index(8, 14)).unwrap();
+    let (above, beside) = (grid.index(8, 10), grid.index(12, 14));
+    let mut above_first = None;
+    for _ in 0..20_000 {
+        sim.step(DT);
+        let state = &sim.particles.state;
+        if above_first.is_none()
+            && (state[above] != BurnState::Intact || state[beside] != BurnState::Intact)
+        {
+            above_first = Some(state[above] != BurnState::Intact);
+        }
+        if sim.particles.burnt_fraction() > 0.95 {
+            break;
+        }
+    }
+    assert_eq!(above_first, Some(true), "fire did not climb first");
+    assert!(
+        sim.particles.burnt_fraction() > 0.95,
+        "only {} burnt",
+        sim.particles.burnt_fraction()
+    );
+    assert!(sim.particles.temperature.iter().all(|t| t.is_finite()));
+}

@@ -69,6 +69,9 @@ pub struct HeatParams {
     pub proximity_radius: f32,
     /// Push rate across proximity, 1/s, at zero distance; falls linearly to 0 at the radius.
     pub proximity_rate: f32,
+    /// The physical model's parameters, when the cloth uses it instead of the push model
+    /// (proximity heating then still applies).
+    pub physical: Option<super::conduction::ConductionParams>,
 }
 
 impl HeatParams {
@@ -81,6 +84,7 @@ impl HeatParams {
             up: Vec3::Y,
             proximity_radius,
             proximity_rate: material.heat_spread_rate,
+            physical: None,
         }
     }
 }
@@ -225,6 +229,36 @@ pub fn paper_heat_step(
     apply_heat(temperature, state, &mut workspace.delta);
 }
 
+/// Proximity heating alone, applied at once: what the physical model adds for folds and
+/// layers that touch without a spring between them.
+pub fn proximity_heat_step(
+    position: &[Vec3],
+    temperature: &mut [f32],
+    state: &[BurnState],
+    params: &HeatParams,
+    workspace: &mut HeatWorkspace,
+    h: f32,
+) {
+    if params.proximity_radius <= 0.0 || !state.iter().any(|s| s.is_ignited()) {
+        return;
+    }
+    workspace.delta.clear();
+    workspace.delta.resize(temperature.len(), 0.0);
+    workspace
+        .hash
+        .build(position, params.proximity_radius, |j| !state[j].is_burnt());
+    proximity_heat_push(
+        &workspace.hash,
+        position,
+        temperature,
+        state,
+        params,
+        h,
+        &mut workspace.delta,
+    );
+    apply_heat(temperature, state, &mut workspace.delta);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -268,6 +302,7 @@ mod tests {
             up: Vec3::Y,
             proximity_radius: 0.0,
             proximity_rate: 0.0,
+            physical: None,
         };
         let mut delta = [0.0; 4];
         paper_heat_push(

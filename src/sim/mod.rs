@@ -15,6 +15,7 @@
 //! | [`integrate`] | explicit Euler, symplectic Euler, Verlet, RK4, XPBD; the stability limit |
 //! | [`provot`] | Provot's stretch correction |
 //! | [`heat`] | the paper's upward-biased heat push and proximity heating |
+//! | [`conduction`] | the physical heat model: conduction, convection, cooling, burning |
 //! | [`collision`] | sphere, capsule and plane colliders |
 //! | [`combustion`] | ignition, burning, rest-length shrink |
 //! | [`spatial_hash`] | the O(n) neighbour search behind proximity heating |
@@ -31,6 +32,7 @@
 pub mod cloth;
 pub mod collision;
 pub mod combustion;
+pub mod conduction;
 pub mod error;
 pub mod forces;
 pub mod grid;
@@ -44,7 +46,7 @@ pub mod spatial_hash;
 pub mod springs;
 pub mod topology;
 
-pub use cloth::{ClothSim, ClothWorkspace, Environment, SolverSettings, StepReport};
+pub use cloth::{ClothSim, ClothWorkspace, Environment, HeatModel, SolverSettings, StepReport};
 pub use collision::{ColliderShape, WorldCollider};
 pub use combustion::CombustionReport;
 pub use error::ClothError;

@@ -1,0 +1,343 @@
+//! The physical heat model: conduction along the cloth, upward convection, cooling to the
+//! air, and heat released by burning.
+//!
+//! For particle `i` with mass `mᵢ` (heat capacity `c·mᵢ`) and structural neighbours `j`
+//! at rest distance `lᵢⱼ`:
+//!
+//! `mᵢ dTᵢ/dt = Σⱼ m̄ᵢⱼ (α/lᵢⱼ² + c·max(ûᵢⱼ·up, 0)·[Tᵢ > Tⱼ]) (Tⱼ − Tᵢ) + mᵢ q [ignited] − mᵢ κ (Tᵢ − T_air)`
+//!
+//! - conduction with diffusivity `α` (m²/s): on a square grid of spacing `dx` this is the
+//!   5-point Laplacian, so `∂T/∂t = α∇²T` (checked against the spreading Gaussian);
+//! - convection at rate `c` (1/s): hot air carries heat from a particle to a cooler one above
+//!   it, in proportion to how vertical the link is — fire climbs, as in the paper, but heat
+//!   moves rather than being created;
+//! - heat release `q` (°C/s) while a particle is ignited (the material's self-heating rate);
+//! - cooling at rate `κ` (1/s) towards the air temperature.
+//!
+//! Each exchange is a flux between two particles, so with no burning and no cooling
+//! `Σ mᵢTᵢ` is conserved to rounding (insulated edges). Burnt particles take no part. The
+//! explicit update is stable and never overshoots when `h ≤ mᵢ / Σⱼ m̄ᵢⱼ rateᵢⱼ` for every
+//! particle; [`conduction_step`] splits `h` into as many substeps as that needs (cooling is
+//! applied exactly, as an exponential).
+
+use super::material::MAX_TEMPERATURE;
+use super::particles::BurnState;
+use super::springs::{SpringKind, Springs};
+use glam::Vec3;
+
+/// Parameters of the physical heat model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConductionParams {
+    /// Thermal diffusivity along the cloth, m²/s.
+    pub diffusivity: f32,
+    /// Rate at which heat climbs from a hot particle to a cooler one directly above, 1/s.
+    pub convection: f32,
+    /// Rate of cooling towards the air, 1/s.
+    pub cooling: f32,
+    /// Heating of an ignited particle by its own burning, °C/s.
+    pub combustion_heating: f32,
+    /// Air temperature, °C.
+    pub air_temperature: f32,
+    /// World up, unit vector.
+    pub up: Vec3,
+}
+
+impl Default for ConductionParams {
+    fn default() -> Self {
+        Self {
+            diffusivity: 2e-4,
+            convection: 2.0,
+            cooling: 0.05,
+            combustion_heating: 0.0,
+            air_temperature: 20.0,
+            up: Vec3::Y,
+        }
+    }
+}
+
+/// Exchange rate of one structural spring, 1/s per unit mass, or `None` for springs that do
+/// not conduct (not structural, or touching a burnt particle).
+#[inline]
+fn exchange_rate(
+    springs: &Springs,
+    s: usize,
+    position: &[Vec3],
+    temperature: &[f32],
+    state: &[BurnState],
+    params: &ConductionParams,
+) -> Option<(usize, usize, f32)> {
+    if springs.kind[s] != SpringKind::Structural {
+        return None;
+    }
+    let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
+    if state[a].is_burnt() || state[b].is_burnt() {
+        return None;
+    }
+    let rest = springs.initial_rest_length[s];
+    if rest <= 0.0 {
+        return None;
+    }
+    let mut rate = params.diffusivity / (rest * rest);
+    if params.convection > 0.0 {
+        // The hotter end's heat climbs if the cooler end is above it.
+        let (hot, cold) = if temperature[a] >= temperature[b] {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        let rise = (position[cold] - position[hot])
+            .normalize_or_zero()
+            .dot(params.up);
+        rate += params.convection * rise.max(0.0);
+    }
+    Some((a, b, rate))
+}
+
+/// The largest stable, non-overshooting explicit step for the exchange terms, s (infinite
+/// when nothing exchanges heat). `scratch` is reused.
+pub fn conduction_stable_step(
+    springs: &Springs,
+    position: &[Vec3],
+    mass: &[f32],
+    temperature: &[f32],
+    state: &[BurnState],
+    params: &ConductionParams,
+    scratch: &mut Vec<f32>,
+) -> f32 {
+    scratch.clear();
+    scratch.resize(mass.len(), 0.0);
+    for s in 0..springs.len() {
+        if let Some((a, b, rate)) = exchange_rate(springs, s, position, temperature, state, params)
+        {
+            let shared = 0.5 * (mass[a] + mass[b]);
+            scratch[a] += rate * shared / mass[a];
+            scratch[b] += rate * shared / mass[b];
+        }
+    }
+    let fastest = scratch.iter().copied().fold(0.0f32, f32::max);
+    if fastest > 0.0 {
+        1.0 / fastest
+    } else {
+        f32::INFINITY
+    }
+}
+
+/// Advances temperatures `h` seconds under the physical model, in as many explicit substeps
+/// as stability needs (at most 1000; beyond that the step is clamped and stays monotone).
+/// Returns the substeps used. `delta` is scratch, reused.
+#[allow(clippy::too_many_arguments)]
+pub fn conduction_step(
+    springs: &Springs,
+    position: &[Vec3],
+    mass: &[f32],
+    temperature: &mut [f32],
+    state: &[BurnState],
+    params: &ConductionParams,
+    delta: &mut Vec<f32>,
+    h: f32,
+) -> u32 {
+    if !(h.is_finite() && h > 0.0) {
+        return 0;
+    }
+    let stable = conduction_stable_step(springs, position, mass, temperature, state, params, delta);
+    let substeps = if stable.is_finite() {
+        ((h / (0.9 * stable)).ceil() as u32).clamp(1, 1000)
+    } else {
+        1
+    };
+    let sub_h = h / substeps as f32;
+    let keep = (-params.cooling * sub_h).exp();
+    for _ in 0..substeps {
+        delta.clear();
+        delta.resize(temperature.len(), 0.0);
+        for s in 0..springs.len() {
+            if let Some((a, b, rate)) =
+                exchange_rate(springs, s, position, temperature, state, params)
+            {
+                let flux = rate * 0.5 * (mass[a] + mass[b]) * (temperature[b] - temperature[a]);
+                delta[a] += flux;
+                delta[b] -= flux;
+            }
+        }
+        for i in 0..temperature.len() {
+            if state[i].is_burnt() {
+                continue;
+            }
+            // A step past the stable limit (the 1000 cap) is clamped to stay monotone.
+            let mut t = temperature[i] + sub_h * delta[i] / mass[i];
+            if state[i].is_ignited() {
+                t += params.combustion_heating * sub_h;
+            }
+            t = params.air_temperature + (t - params.air_temperature) * keep;
+            if t.is_finite() {
+                temperature[i] = t.min(MAX_TEMPERATURE);
+            }
+        }
+    }
+    substeps
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::{BurnMaterial, ClothBuilder};
+    use glam::Affine3A;
+
+    fn flat_grid(n: u32, spacing: f32) -> crate::sim::ClothParts {
+        ClothBuilder::grid(n, n, spacing)
+            .build(&BurnMaterial::CLOTH, Affine3A::IDENTITY)
+            .unwrap()
+    }
+
+    fn diffusion_only(diffusivity: f32) -> ConductionParams {
+        ConductionParams {
+            diffusivity,
+            convection: 0.0,
+            cooling: 0.0,
+            combustion_heating: 0.0,
+            ..ConductionParams::default()
+        }
+    }
+
+    /// Insulated edges, no burning, no cooling: Σ mᵢTᵢ is conserved, with convection too.
+    #[test]
+    fn heat_is_conserved() {
+        let parts = flat_grid(20, 0.05);
+        let p = &parts.particles;
+        let mut temperature: Vec<f32> = (0..p.len())
+            .map(|i| 20.0 + ((i * 37) % 101) as f32 * 5.0)
+            .collect();
+        let mut mass = p.mass.clone();
+        mass[3] *= 4.0;
+        let params = ConductionParams {
+            convection: 3.0,
+            ..diffusion_only(1e-3)
+        };
+        let total = |t: &[f32]| -> f64 {
+            t.iter()
+                .zip(&mass)
+                .map(|(t, m)| f64::from(*t) * f64::from(*m))
+                .sum()
+        };
+        let before = total(&temperature);
+        let mut delta = Vec::new();
+        for _ in 0..200 {
+            conduction_step(
+                &parts.springs,
+                &p.position,
+                &mass,
+                &mut temperature,
+                &p.state,
+                &params,
+                &mut delta,
+                1.0 / 60.0,
+            );
+        }
+        let after = total(&temperature);
+        assert!(
+            ((after - before) / before).abs() < 1e-5,
+            "{before} -> {after}"
+        );
+        // And it did spread: the hottest particle cooled.
+        assert!(temperature.iter().copied().fold(0.0, f32::max) < 20.0 + 500.0);
+    }
+
+    /// A Gaussian bump spreads as `A s²/(s² + 2αt) exp(−r²/(2(s² + 2αt)))`.
+    #[test]
+    fn a_gaussian_spreads_as_the_heat_equation_says() {
+        let n = 61;
+        let dx = 0.01;
+        let parts = flat_grid(n, dx);
+        let p = &parts.particles;
+        let centre = p.position[(n as usize / 2) * n as usize + n as usize / 2];
+        let (alpha, s, amplitude, t_end) = (1e-4f32, 0.04f32, 500.0f32, 2.0f32);
+        let mut temperature: Vec<f32> = p
+            .position
+            .iter()
+            .map(|x| 20.0 + amplitude * (-(x - centre).length_squared() / (2.0 * s * s)).exp())
+            .collect();
+        let mut delta = Vec::new();
+        let params = diffusion_only(alpha);
+        let steps = 120;
+        for _ in 0..steps {
+            conduction_step(
+                &parts.springs,
+                &p.position,
+                &p.mass,
+                &mut temperature,
+                &p.state,
+                &params,
+                &mut delta,
+                t_end / steps as f32,
+            );
+        }
+        let width = s * s + 2.0 * alpha * t_end;
+        let mut worst = 0.0f32;
+        for (x, t) in p.position.iter().zip(&temperature) {
+            let exact = 20.0
+                + amplitude * s * s / width
+                    * (-(x - centre).length_squared() / (2.0 * width)).exp();
+            worst = worst.max((t - exact).abs());
+        }
+        // The peak falls from 500 to 222; the grid solution is within 1% of the amplitude.
+        assert!(worst < 0.01 * amplitude, "max error {worst} °C");
+    }
+
+    #[test]
+    fn heat_climbs_and_burnt_particles_are_insulated() {
+        let parts = flat_grid(5, 0.05);
+        let p = &parts.particles;
+        // Grid rows run downward in world space: row 0 is the top.
+        let centre = 2 * 5 + 2;
+        let (above, below) = (5 + 2, 3 * 5 + 2);
+        let mut temperature = vec![20.0; p.len()];
+        temperature[centre] = 800.0;
+        let mut state = p.state.clone();
+        let burnt = 2 * 5 + 3;
+        state[burnt] = BurnState::Burnt;
+        temperature[burnt] = 5.0;
+        let params = ConductionParams {
+            convection: 5.0,
+            ..diffusion_only(1e-4)
+        };
+        let mut delta = Vec::new();
+        conduction_step(
+            &parts.springs,
+            &p.position,
+            &p.mass,
+            &mut temperature,
+            &state,
+            &params,
+            &mut delta,
+            0.05,
+        );
+        assert!(p.position[above].y > p.position[below].y);
+        assert!(temperature[above] > temperature[below] + 1.0);
+        assert_eq!(temperature[burnt], 5.0);
+    }
+
+    #[test]
+    fn stiff_step_is_split_and_stays_monotone() {
+        let parts = flat_grid(8, 0.001);
+        let p = &parts.particles;
+        let mut temperature = vec![20.0; p.len()];
+        temperature[27] = 1000.0;
+        let mut delta = Vec::new();
+        let used = conduction_step(
+            &parts.springs,
+            &p.position,
+            &p.mass,
+            &mut temperature,
+            &p.state,
+            &diffusion_only(1e-3),
+            &mut delta,
+            0.1,
+        );
+        assert!(used > 1);
+        assert!(
+            temperature
+                .iter()
+                .all(|t| (20.0 - 1e-3..=1000.0).contains(t))
+        );
+    }
+}
