@@ -4,5 +4,7 @@
 //! | module | what it measures |
 //! |---|---|
 //! | [`stability`] | every integrator against stiff and extreme cases, raw and guarded |
+//! | [`accuracy`] | error against run time of every integrator on reference problems |
 
+pub mod accuracy;
 pub mod stability;
