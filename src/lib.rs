@@ -30,6 +30,7 @@
 //! - [`sim`]: the physics, plain Rust over slices, testable without an `App`.
 //! - [`plugin`]: components, events, system sets; thin systems over [`sim`].
 //! - `render` (feature `render`): the dynamic mesh and click-to-ignite.
+//! - `smoke` (feature `smoke`): flames, smoke and embers from the burning front.
 //!
 //! ## Units
 //! Metres, kilograms, seconds, degrees Celsius. The paper's Fahrenheit thresholds are
@@ -38,6 +39,7 @@
 //! ## Cargo features
 //! - `render` (default): draw cloths with Bevy's renderer. Without it nothing of Bevy's
 //!   renderer is compiled and the simulation runs headless.
+//! - `smoke` (default): flames, smoke and embers. Without it none of that code is compiled.
 
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
@@ -47,6 +49,8 @@ pub mod plugin;
 pub mod render;
 pub mod report;
 pub mod sim;
+#[cfg(feature = "smoke")]
+pub mod smoke;
 
 /// The types most users need.
 pub mod prelude {
@@ -61,4 +65,6 @@ pub mod prelude {
         BurnMaterial, BurnState, ClothBuilder, ClothError, ColliderShape, Cutout, GridPlane,
         Integrator, ProvotSettings, SolverSettings,
     };
+    #[cfg(feature = "smoke")]
+    pub use crate::smoke::{KindSettings, SmokeEmitter, SmokeKind, SmokePlugin, SmokeSettings};
 }

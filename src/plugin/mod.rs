@@ -4,6 +4,8 @@
 //! |---|---|---|
 //! | [`ClothSimulationPlugin`] | always | building cloths, heat, combustion, dynamics, culling, [`Ignite`] |
 //! | `ClothRenderPlugin` (module `render`) | `render` | a dynamic mesh per cloth, the burning-cloth material, click to ignite |
+//! | `SmokePlugin` (module `smoke`) | `smoke` | a flame, smoke and ember emitter per cloth |
+//! | `SmokeRenderPlugin` (module `smoke::render`) | `smoke` + `render` | the particles as billboards |
 //!
 //! [`BurningClothPlugins`] groups them, so `.build().disable::<X>()` removes one.
 
@@ -75,6 +77,12 @@ impl PluginGroup for BurningClothPlugins {
         });
         #[cfg(feature = "render")]
         let group = group.add(crate::render::ClothRenderPlugin);
+        #[cfg(feature = "smoke")]
+        let group = group.add(crate::smoke::SmokePlugin {
+            schedule: self.schedule,
+        });
+        #[cfg(all(feature = "smoke", feature = "render"))]
+        let group = group.add(crate::smoke::render::SmokeRenderPlugin);
         group
     }
 }

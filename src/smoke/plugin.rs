@@ -1,0 +1,158 @@
+//! The ECS face of smoke: [`SmokePlugin`], the [`SmokeEmitter`] component and its systems.
+
+use super::emitter::{Air, BurningCloth, SmokeSim};
+use super::pool::SmokePool;
+use super::settings::{SmokeSettings, SmokeSettingsError};
+use crate::plugin::{
+    BurningClothSystems, ClothEnvironment, ClothParticles, ClothScratch, ClothTopology,
+};
+use bevy::ecs::intern::Interned;
+use bevy::ecs::schedule::ScheduleLabel;
+use bevy::prelude::*;
+
+/// A cloth's flames, smoke and embers: settings and a fixed-capacity particle pool.
+///
+/// With [`SmokePlugin`] in the app every cloth gets one with default settings when it is
+/// built; insert your own at spawn to change them, or change them later with
+/// [`SmokeEmitter::set_settings`]. Particles live in world space and keep flying after the
+/// cloth has burnt out.
+#[derive(Component, Clone, Debug)]
+pub struct SmokeEmitter {
+    sim: SmokeSim,
+}
+
+impl Default for SmokeEmitter {
+    fn default() -> Self {
+        Self::new(SmokeSettings::default())
+    }
+}
+
+impl SmokeEmitter {
+    /// An emitter with these settings; invalid settings are logged and the defaults used.
+    pub fn new(settings: SmokeSettings) -> Self {
+        Self::try_new(settings).unwrap_or_else(|error| {
+            warn!("SmokeEmitter: {error}; default settings used");
+            Self::try_new(SmokeSettings::default()).expect("default smoke settings are valid")
+        })
+    }
+
+    /// An emitter with these settings, or why they are unusable.
+    pub fn try_new(settings: SmokeSettings) -> Result<Self, SmokeSettingsError> {
+        Ok(Self {
+            sim: SmokeSim::new(settings)?,
+        })
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> &SmokeSettings {
+        self.sim.settings()
+    }
+
+    /// Replaces the settings if they are valid; otherwise keeps the old ones and says why.
+    pub fn set_settings(&mut self, settings: SmokeSettings) -> Result<(), SmokeSettingsError> {
+        self.sim.set_settings(settings)
+    }
+
+    /// The particles.
+    pub fn pool(&self) -> &SmokePool {
+        &self.sim.pool
+    }
+
+    /// The simulation behind the component.
+    pub fn sim(&self) -> &SmokeSim {
+        &self.sim
+    }
+
+    /// Removes every live particle.
+    pub fn clear(&mut self) {
+        self.sim.pool.clear();
+    }
+}
+
+/// The smoke systems, after [`BurningClothSystems::Cull`] in the simulation's schedule.
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SmokeSystems;
+
+/// Flames, smoke and embers from every burning cloth (feature `smoke`). Part of
+/// `BurningClothPlugins`. Gives every cloth a [`SmokeEmitter`], emits and moves particles in
+/// the simulation's schedule. Its systems run only while some entity has an emitter.
+/// `SmokeRenderPlugin` (feature `render`, also in the group) draws them.
+pub struct SmokePlugin {
+    /// The schedule the simulation steps in.
+    pub schedule: Interned<dyn ScheduleLabel>,
+}
+
+impl Default for SmokePlugin {
+    fn default() -> Self {
+        Self {
+            schedule: FixedUpdate.intern(),
+        }
+    }
+}
+
+impl Plugin for SmokePlugin {
+    fn build(&self, app: &mut App) {
+        app.register_required_components::<ClothParticles, SmokeEmitter>()
+            .configure_sets(
+                self.schedule,
+                SmokeSystems
+                    .after(BurningClothSystems::Cull)
+                    .run_if(any_with_component::<SmokeEmitter>),
+            )
+            .add_systems(
+                self.schedule,
+                (emit_smoke, advance_smoke).chain().in_set(SmokeSystems),
+            );
+    }
+}
+
+/// The air particles move in: the cloths' environment.
+fn air(environment: &ClothEnvironment) -> Air {
+    if environment.validate().is_ok() {
+        Air {
+            wind: environment.wind,
+            gravity: environment.gravity,
+            up: environment.up,
+        }
+    } else {
+        Air::default()
+    }
+}
+
+/// Emits from each cloth's burning particles and those that burnt away this step.
+fn emit_smoke(
+    time: Res<Time>,
+    environment: Res<ClothEnvironment>,
+    mut emitters: Query<(
+        &mut SmokeEmitter,
+        &ClothParticles,
+        &ClothScratch,
+        &ClothTopology,
+    )>,
+) {
+    let air = air(&environment);
+    for (mut emitter, particles, scratch, topology) in &mut emitters {
+        let cloth = BurningCloth::new(
+            particles,
+            &scratch.material,
+            topology,
+            &scratch.workspace.newly_burnt,
+        );
+        emitter.sim.emit(&cloth, &air, time.delta_secs());
+    }
+}
+
+/// Moves every emitter's live particles, on cloths or not.
+fn advance_smoke(
+    time: Res<Time>,
+    environment: Res<ClothEnvironment>,
+    mut emitters: Query<&mut SmokeEmitter>,
+) {
+    let air = air(&environment);
+    for mut emitter in &mut emitters {
+        if emitter.sim.pool.is_empty() {
+            continue;
+        }
+        emitter.sim.advance(&air, time.delta_secs());
+    }
+}
