@@ -153,7 +153,11 @@ fn buoyant_smoke_rises_and_cools() {
     for _ in 0..20 {
         sim.emit(&cloth, &Air::default(), DT);
     }
-    assert!(sim.pool.live() > 5, "{} smoke particles born", sim.pool.live());
+    assert!(
+        sim.pool.live() > 5,
+        "{} smoke particles born",
+        sim.pool.live()
+    );
     let mean = |sim: &SmokeSim| {
         let slots: Vec<usize> = sim.pool.live_slots().collect();
         let y = slots.iter().map(|&s| sim.pool.position[s].y).sum::<f32>() / slots.len() as f32;
@@ -291,4 +295,48 @@ fn bad_input_is_refused_or_ignored() {
     settings.of_mut(SmokeKind::Smoke).drag = -1.0;
     assert!(sim.set_settings(settings).is_err());
     assert_eq!(sim.settings(), &SmokeSettings::default());
+}
+
+/// Through the ECS: every built cloth gets an emitter that smokes while it burns; a cloth
+/// whose emitter is removed makes none, and the smoke systems then have nothing to do.
+#[test]
+fn the_plugin_gives_every_cloth_an_emitter_and_smokes_only_while_burning() {
+    use bevy::prelude::*;
+    use bevy::time::TimeUpdateStrategy;
+    use bevy_burning_cloth::prelude::*;
+    use std::time::Duration;
+
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, BurningClothPlugins::default()))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_micros(
+            15_625,
+        )));
+    let spawn = |app: &mut App, x: f32| {
+        app.world_mut()
+            .spawn((
+                ClothBuilder::grid(12, 12, 0.03).pin_top_corners(),
+                BurnMaterial::PAPER,
+                Transform::from_xyz(x, 2.0, 0.0),
+            ))
+            .id()
+    };
+    let smoking = spawn(&mut app, 0.0);
+    let silent = spawn(&mut app, 3.0);
+    app.update();
+    assert!(app.world().get::<SmokeEmitter>(smoking).is_some());
+    app.world_mut().entity_mut(silent).remove::<SmokeEmitter>();
+    for cloth in [smoking, silent] {
+        app.world_mut().trigger(Ignite::particle(cloth, 66));
+    }
+    for _ in 0..120 {
+        app.update();
+    }
+    let pool = app.world().get::<SmokeEmitter>(smoking).unwrap().pool();
+    assert!(pool.live() > 0, "a burning cloth made no smoke");
+    assert!(app.world().get::<SmokeEmitter>(silent).is_none());
+    let status = app.world().get::<ClothStatus>(silent).unwrap();
+    assert!(
+        status.ignited + status.burnt > 0,
+        "the cloth without an emitter did not burn"
+    );
 }

@@ -4,8 +4,9 @@
 //! Check mode: set `BURNING_CLOTH_SCREENSHOT=path.png` (and optionally
 //! `BURNING_CLOTH_FRAMES=N`, default 240). Each frame then advances exactly 1/60 s of
 //! simulated time, however slow the renderer, so the picture is the same on any machine.
-//! The screenshot's pixels are classified (light cloth, char, fire) and the counts printed;
-//! `BURNING_CLOTH_REQUIRE=cloth,char,fire` makes the app exit with an error when any of the
+//! The screenshot's pixels are classified (light cloth, char, fire, and smoke: grey veiling
+//! the sky above the cloth's highest row) and the counts printed;
+//! `BURNING_CLOTH_REQUIRE=cloth,char,fire,smoke` makes the app exit with an error when any of the
 //! named classes has fewer than 50 pixels.
 
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
@@ -192,6 +193,10 @@ pub struct PixelCounts {
     pub char: u32,
     /// Bright orange pixels: the glowing front.
     pub fire: u32,
+    /// Grey pixels veiling the blue sky above the cloth's highest row: smoke or flames
+    /// rising off the cloth. The sky measures (56, 82, 117); the floor is warm (red above
+    /// blue) and the cloth is below the row, so neither counts.
+    pub smoke: u32,
 }
 
 impl PixelCounts {
@@ -207,11 +212,21 @@ impl PixelCounts {
         }
     }
 
+    /// Whether a pixel above the cloth is smoke (or flame) rather than sky.
+    fn is_smoke([r, g, b]: [u8; 3]) -> bool {
+        let (r, g, b) = (i32::from(r), i32::from(g), i32::from(b));
+        let (max, min) = (r.max(g).max(b), r.min(g).min(b));
+        let grey_over_sky = b + 3 >= r && b - r < 40 && max >= 70 && max - min < 50;
+        let flame = r >= 170 && r > b + 40;
+        grey_over_sky || flame
+    }
+
     fn get(&self, class: &str) -> Option<u32> {
         match class {
             "cloth" => Some(self.cloth),
             "char" => Some(self.char),
             "fire" => Some(self.fire),
+            "smoke" => Some(self.smoke),
             _ => None,
         }
     }
@@ -224,18 +239,34 @@ fn classify_screenshot(
 ) {
     let image = &captured.image;
     let mut counts = PixelCounts::default();
+    // The cloth's highest row: the first with a few dozen cloth pixels.
+    let mut cloth_top = image.height();
     for y in 0..image.height() {
+        let before = counts.cloth;
         for x in 0..image.width() {
             if let Ok(colour) = image.get_color_at(x, y) {
                 counts.add(colour.to_srgba().to_u8_array_no_alpha());
             }
         }
+        if counts.cloth - before >= 24 && cloth_top == image.height() {
+            cloth_top = y;
+        }
+    }
+    for y in 0..cloth_top {
+        for x in 0..image.width() {
+            if let Ok(colour) = image.get_color_at(x, y)
+                && PixelCounts::is_smoke(colour.to_srgba().to_u8_array_no_alpha())
+            {
+                counts.smoke += 1;
+            }
+        }
     }
     println!(
-        "pixel check: cloth {} char {} fire {} (of {} x {})",
+        "pixel check: cloth {} char {} fire {} smoke {} (of {} x {})",
         counts.cloth,
         counts.char,
         counts.fire,
+        counts.smoke,
         image.width(),
         image.height()
     );

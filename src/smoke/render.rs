@@ -112,16 +112,32 @@ fn soft_sprite() -> Image {
     )
 }
 
-fn empty_quad_mesh() -> Mesh {
+/// One degenerate, transparent quad: the renderer allocates no buffer for a mesh with no
+/// vertices and then logs an error when it is updated, so the mesh never starts empty.
+fn placeholder_quad_mesh() -> Mesh {
+    let mut buffers = QuadBuffers::default();
+    buffers.quad(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::Z, [0.0; 4]);
     Mesh::new(
         PrimitiveTopology::TriangleList,
         RenderAssetUsages::default(),
     )
-    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, Vec::<[f32; 3]>::new())
-    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, Vec::<[f32; 3]>::new())
-    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, Vec::<[f32; 2]>::new())
-    .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, Vec::<[f32; 4]>::new())
-    .with_inserted_indices(Indices::U32(Vec::new()))
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, buffers.positions)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, buffers.normals)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, buffers.uvs)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, buffers.colours)
+    .with_inserted_indices(Indices::U32(buffers.indices))
+}
+
+/// Where a billboard of half-size `size` at `position` is drawn: pulled towards the eye by
+/// its size (at most half the way), so a sprite born on the cloth does not cut through the
+/// cloth's surface in a hard line.
+fn pulled_towards_eye(position: Vec3, eye: Vec3, size: f32) -> Vec3 {
+    let to_eye = eye - position;
+    let distance = to_eye.length();
+    if distance <= f32::EPSILON {
+        return position;
+    }
+    position + to_eye * (size.min(0.5 * distance) / distance)
 }
 
 /// Spawns the two billboard entities when the first particle appears.
@@ -157,7 +173,7 @@ fn spawn_billboards(
                 "Smoke"
             }),
             SmokeBillboards { additive },
-            Mesh3d(meshes.add(empty_quad_mesh())),
+            Mesh3d(meshes.add(placeholder_quad_mesh())),
             MeshMaterial3d(material),
             Transform::IDENTITY,
             Visibility::Hidden,
@@ -194,9 +210,13 @@ fn draw_smoke(
             let position = sim.pool.position[slot];
             if kind.is_additive() {
                 let (size, colour) = sim.appearance(slot);
-                scratch
-                    .additive
-                    .quad(position, right * size, up * size, facing, colour);
+                scratch.additive.quad(
+                    pulled_towards_eye(position, eye, size),
+                    right * size,
+                    up * size,
+                    facing,
+                    colour,
+                );
             } else {
                 let depth = (position - eye).dot(facing);
                 scratch.order.push((depth, entity, slot as u32));
@@ -213,7 +233,7 @@ fn draw_smoke(
         let sim = emitter.sim();
         let (size, colour) = sim.appearance(slot as usize);
         scratch.blended.quad(
-            sim.pool.position[slot as usize],
+            pulled_towards_eye(sim.pool.position[slot as usize], eye, size),
             right * size,
             up * size,
             facing,
@@ -281,6 +301,23 @@ mod tests {
         assert!(alpha(32, 32) > 240);
         assert_eq!(alpha(0, 0), 0);
         assert!(alpha(32, 32) > alpha(48, 32) && alpha(48, 32) > alpha(62, 32));
+    }
+
+    #[test]
+    fn billboards_move_towards_the_eye_by_their_size_and_never_past_half_way() {
+        let eye = Vec3::new(0.0, 0.0, 10.0);
+        let moved = pulled_towards_eye(Vec3::ZERO, eye, 0.25);
+        assert!((moved - Vec3::new(0.0, 0.0, 0.25)).length() < 1e-6);
+        let near = pulled_towards_eye(Vec3::new(0.0, 0.0, 9.9), eye, 1.0);
+        assert!((near.z - 9.95).abs() < 1e-5);
+        assert_eq!(pulled_towards_eye(eye, eye, 1.0), eye);
+    }
+
+    #[test]
+    fn the_placeholder_mesh_has_vertices_for_the_renderer_to_allocate() {
+        let mesh = placeholder_quad_mesh();
+        assert_eq!(mesh.count_vertices(), 4);
+        assert_eq!(mesh.indices().map(|i| i.len()), Some(6));
     }
 
     #[test]

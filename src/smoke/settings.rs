@@ -38,13 +38,13 @@ impl KindSettings {
         lifetime: [0.25, 0.55],
         rise_speed: 0.9,
         spread_speed: 0.15,
-        size: [0.035, 0.012],
+        size: [0.06, 0.02],
         buoyancy: 5.0,
         gravity_scale: 0.0,
         drag: 3.0,
         turbulence: 0.25,
         cooling: 1.5,
-        colour: [[1.0, 0.62, 0.16, 0.95], [0.75, 0.12, 0.02, 0.0]],
+        colour: [[1.0, 0.45, 0.08, 0.7], [0.7, 0.1, 0.02, 0.0]],
     };
 
     /// Smoke: long-lived, grey, expanding and fading, curling in the turbulence.
