@@ -47,6 +47,7 @@ struct Curtain;
 fn curtain() -> impl Bundle {
     (
         Curtain,
+        Name::new("curtain"),
         ClothBuilder::grid(COLUMNS, ROWS, SPACING).pin_top_every(5),
         BurnMaterial::COTTON,
         Transform::from_xyz(0.0, RAIL_HEIGHT, 0.0),

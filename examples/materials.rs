@@ -27,8 +27,10 @@ fn main() -> AppExit {
             DefaultPlugins.set(common::window("bevy_burning_cloth: materials")),
             BurningClothPlugins::default(),
             common::ExamplePlugin {
-                camera_target: Vec3::new(0.0, 1.1, 0.0),
-                camera_distance: 3.5,
+                // With the control panel on the right, look a little right of centre so all
+                // five swatches stay clear of it.
+                camera_target: Vec3::new(if cfg!(feature = "egui") { 0.55 } else { 0.0 }, 1.1, 0.0),
+                camera_distance: if cfg!(feature = "egui") { 3.9 } else { 3.5 },
             },
         ))
         .add_systems(Startup, spawn_all)
@@ -69,6 +71,7 @@ fn spawn_swatch(commands: &mut Commands, index: usize, material: BurnMaterial) {
         .id();
     commands.spawn((
         Swatch { label },
+        Name::new(material.name),
         ClothBuilder::grid(COLUMNS, ROWS, SPACING).pin_top_every(4),
         material,
         Transform::from_xyz(x_of(index), RAIL_HEIGHT, 0.0),

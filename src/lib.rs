@@ -40,6 +40,7 @@
 //! - `render` (default): draw cloths with Bevy's renderer. Without it nothing of Bevy's
 //!   renderer is compiled and the simulation runs headless.
 //! - `smoke` (default): flames, smoke and embers. Without it none of that code is compiled.
+//! - `egui` (default, implies `render`): the control panel, [`ui::BurningClothUiPlugin`].
 
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
@@ -51,13 +52,16 @@ pub mod report;
 pub mod sim;
 #[cfg(feature = "smoke")]
 pub mod smoke;
+#[cfg(feature = "egui")]
+pub mod ui;
 
 /// The types most users need.
 pub mod prelude {
     pub use crate::plugin::{
         BurningClothPlugins, BurningClothSystems, ClothBurntOut, ClothCollider, ClothEnvironment,
-        ClothIgnited, ClothInstability, ClothParticles, ClothSimulationPlugin, ClothSolver,
-        ClothSprings, ClothStatus, ClothSubstepSystems, ClothTopology, Ignite, IgniteAt,
+        ClothIgnited, ClothInstability, ClothParticles, ClothSimulationControl,
+        ClothSimulationPlugin, ClothSolver, ClothSprings, ClothStatus, ClothStepTiming,
+        ClothSubstepSystems, ClothTopology, Extinguish, Ignite, IgniteAt,
     };
     #[cfg(feature = "render")]
     pub use crate::render::ClothRenderPlugin;
@@ -67,4 +71,6 @@ pub mod prelude {
     };
     #[cfg(feature = "smoke")]
     pub use crate::smoke::{KindSettings, SmokeEmitter, SmokeKind, SmokePlugin, SmokeSettings};
+    #[cfg(feature = "egui")]
+    pub use crate::ui::{BurningClothUiPlugin, ClothPanel};
 }

@@ -234,3 +234,98 @@ fn a_cloth_too_stiff_for_its_substeps_stays_finite_and_says_so() {
             .is_finite()
     );
 }
+
+#[test]
+fn pausing_stops_every_cloth_and_single_steps_advance_exactly_one_step() {
+    let mut app = app();
+    let cloth = spawn_silk(&mut app);
+    app.update();
+    app.world_mut()
+        .trigger(Ignite::at_world_point(cloth, Vec3::new(0.2, 1.6, 0.0)));
+    for _ in 0..10 {
+        app.update();
+    }
+    app.world_mut()
+        .resource_mut::<ClothSimulationControl>()
+        .paused = true;
+    let frozen = app.world().get::<ClothParticles>(cloth).unwrap().clone();
+    let steps_before = app.world().resource::<ClothStepTiming>().steps;
+    for _ in 0..20 {
+        app.update();
+    }
+    let after = app.world().get::<ClothParticles>(cloth).unwrap();
+    assert_eq!(after.position, frozen.position, "a paused cloth moved");
+    assert_eq!(
+        after.temperature, frozen.temperature,
+        "a paused cloth heated"
+    );
+    assert_eq!(
+        app.world().resource::<ClothStepTiming>().steps,
+        steps_before
+    );
+
+    app.world_mut()
+        .resource_mut::<ClothSimulationControl>()
+        .step_once();
+    for _ in 0..5 {
+        app.update();
+    }
+    let timing = *app.world().resource::<ClothStepTiming>();
+    assert_eq!(timing.steps, steps_before + 1, "one single step, once");
+    assert!(timing.last_step.as_nanos() > 0 && timing.substeps > 0);
+    let stepped = app.world().get::<ClothParticles>(cloth).unwrap();
+    assert_ne!(stepped.position, frozen.position);
+    assert_eq!(
+        app.world()
+            .resource::<ClothSimulationControl>()
+            .pending_steps,
+        0
+    );
+}
+
+#[test]
+fn extinguishing_a_region_puts_it_out_and_a_bad_request_is_ignored() {
+    let mut app = app();
+    let cloth = spawn_silk(&mut app);
+    app.update();
+    app.world_mut().trigger(Ignite::particle(cloth, 8 * 16 + 8));
+    for _ in 0..40 {
+        app.update();
+    }
+    let status = *app.world().get::<ClothStatus>(cloth).unwrap();
+    assert!(status.ignited > 0, "the fire did not take");
+    // Bad requests: logged, nothing changes, no panic.
+    let before = app
+        .world()
+        .get::<ClothParticles>(cloth)
+        .unwrap()
+        .temperature
+        .clone();
+    app.world_mut()
+        .trigger(Extinguish::within(cloth, Vec3::NAN, 1.0));
+    app.world_mut()
+        .trigger(Extinguish::all(cloth).to_temperature(f32::NAN));
+    let despawned = app.world_mut().spawn_empty().id();
+    app.world_mut().despawn(despawned);
+    app.world_mut().trigger(Extinguish::all(despawned));
+    assert_eq!(
+        app.world()
+            .get::<ClothParticles>(cloth)
+            .unwrap()
+            .temperature,
+        before
+    );
+    // Douse everything within 1 m of the cloth: the fire is out and stays out.
+    let centre = app.world().get::<ClothParticles>(cloth).unwrap().position[8 * 16 + 8];
+    app.world_mut()
+        .trigger(Extinguish::within(cloth, centre, 1.0));
+    let particles = app.world().get::<ClothParticles>(cloth).unwrap();
+    assert_eq!(particles.count(BurnState::Ignited), 0);
+    let burnt = particles.count(BurnState::Burnt);
+    for _ in 0..200 {
+        app.update();
+    }
+    let particles = app.world().get::<ClothParticles>(cloth).unwrap();
+    assert_eq!(particles.count(BurnState::Ignited), 0, "the fire came back");
+    assert_eq!(particles.count(BurnState::Burnt), burnt);
+}

@@ -38,6 +38,25 @@ struct BurnLook {
     glow_strength: f32,
     // Relative amplitude of the rim's flicker.
     flicker: f32,
+    // 1: draw a temperature heat map instead of the burn look.
+    heat_map: f32,
+}
+
+// Temperature ramp over s in [0, 1]: 0 initial (blue), 0.5 ignition (yellow), 1 burnt (white).
+fn heat_ramp(s: f32) -> vec3<f32> {
+    let blue = vec3<f32>(0.02, 0.05, 0.45);
+    let teal = vec3<f32>(0.0, 0.45, 0.35);
+    let yellow = vec3<f32>(1.0, 0.85, 0.05);
+    let red = vec3<f32>(0.9, 0.08, 0.0);
+    let white = vec3<f32>(1.0, 0.95, 0.85);
+    if s < 0.25 {
+        return mix(blue, teal, s / 0.25);
+    } else if s < 0.5 {
+        return mix(teal, yellow, (s - 0.25) / 0.25);
+    } else if s < 0.75 {
+        return mix(yellow, red, (s - 0.5) / 0.25);
+    }
+    return mix(red, white, (s - 0.75) / 0.25);
 }
 
 @group(#{MATERIAL_BIND_GROUP}) @binding(100)
@@ -62,6 +81,23 @@ fn fragment(
     }
 
     var pbr_input = pbr_input_from_standard_material(in, is_front);
+
+    if look.heat_map > 0.5 {
+        // The heat map: matte ramp colour, lit a little from within so it reads in shadow.
+        let ramp = heat_ramp(0.5 * heat + 0.5 * burn);
+        pbr_input.material.base_color = vec4<f32>(ramp, 1.0);
+        pbr_input.material.perceptual_roughness = 1.0;
+        pbr_input.material.reflectance = vec3<f32>(0.0);
+        pbr_input.material.emissive = vec4<f32>(ramp * 0.4, 0.0);
+#ifdef PREPASS_PIPELINE
+        return deferred_output(in, pbr_input);
+#else
+        var map_out: FragmentOutput;
+        map_out.color = apply_pbr_lighting(pbr_input);
+        map_out.color = main_pass_post_lighting_processing(pbr_input, map_out.color);
+        return map_out;
+#endif
+    }
 
     // Scorch browns the cloth as it heats; char blackens it from just before ignition on.
     let scorch = smoothstep(0.1, 0.7, heat);

@@ -60,6 +60,19 @@ impl Plugin for ExamplePlugin {
         .insert_resource(ClearColor(Color::srgb(0.22, 0.32, 0.46)))
         .add_systems(Startup, spawn_stage)
         .add_systems(Update, orbit_camera);
+        // The control panel, when the crate is built with it (default).
+        // `BURNING_CLOTH_VIEWS=1` starts with the heat map and the pin gizmos on.
+        #[cfg(feature = "egui")]
+        {
+            app.add_plugins(bevy_burning_cloth::ui::BurningClothUiPlugin);
+            if std::env::var_os("BURNING_CLOTH_VIEWS").is_some() {
+                let mut panel = app
+                    .world_mut()
+                    .resource_mut::<bevy_burning_cloth::ui::ClothPanel>();
+                panel.heat_map = true;
+                panel.show_pins = true;
+            }
+        }
         if let Some(check) = CheckRun::from_env() {
             app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(
                 1.0 / 60.0,
@@ -235,15 +248,36 @@ impl PixelCounts {
 fn classify_screenshot(
     captured: On<bevy::render::view::screenshot::ScreenshotCaptured>,
     check: Res<CheckRun>,
+    #[cfg(feature = "egui")] panel: Option<Res<bevy_burning_cloth::ui::ClothPanel>>,
     mut commands: Commands,
 ) {
     let image = &captured.image;
     let mut counts = PixelCounts::default();
+    // The control panel's own dark and light pixels are not the scene's: leave them out.
+    // (The window is 1280 x 720 at scale factor 1 under xvfb, so logical = physical pixels.)
+    #[cfg(feature = "egui")]
+    let skip = panel.and_then(|p| p.screen_rect);
+    #[cfg(not(feature = "egui"))]
+    let skip: Option<Rect> = None;
+    let skip = skip.map(|r| {
+        let r = r.inflate(2.0);
+        (
+            r.min.x.max(0.0) as u32..r.max.x.max(0.0) as u32,
+            r.min.y.max(0.0) as u32..r.max.y.max(0.0) as u32,
+        )
+    });
+    let in_panel = |x: u32, y: u32| {
+        skip.as_ref()
+            .is_some_and(|(xs, ys)| xs.contains(&x) && ys.contains(&y))
+    };
     // The cloth's highest row: the first with a few dozen cloth pixels.
     let mut cloth_top = image.height();
     for y in 0..image.height() {
         let before = counts.cloth;
         for x in 0..image.width() {
+            if in_panel(x, y) {
+                continue;
+            }
             if let Ok(colour) = image.get_color_at(x, y) {
                 counts.add(colour.to_srgba().to_u8_array_no_alpha());
             }
@@ -254,12 +288,18 @@ fn classify_screenshot(
     }
     for y in 0..cloth_top {
         for x in 0..image.width() {
+            if in_panel(x, y) {
+                continue;
+            }
             if let Ok(colour) = image.get_color_at(x, y)
                 && PixelCounts::is_smoke(colour.to_srgba().to_u8_array_no_alpha())
             {
                 counts.smoke += 1;
             }
         }
+    }
+    if let Some((xs, ys)) = &skip {
+        println!("pixel check: control panel at x {xs:?}, y {ys:?} left out");
     }
     println!(
         "pixel check: cloth {} char {} fire {} smoke {} (of {} x {})",

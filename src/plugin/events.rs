@@ -1,7 +1,7 @@
 //! Events in and out of the simulation: [`Ignite`] asks a cloth to catch fire;
 //! [`ClothIgnited`] and [`ClothBurntOut`] tell gameplay what happened.
 
-use super::components::{ClothParticles, PendingIgnitions};
+use super::components::{ClothParticles, ClothScratch, PendingIgnitions};
 use crate::sim::{self, BurnMaterial, ClothBuilder, ClothError};
 use bevy::prelude::*;
 
@@ -55,6 +55,93 @@ impl Ignite {
         self.temperature = Some(celsius);
         self
     }
+}
+
+/// Puts a fire out: cools the cloth's unburnt particles within a region (or all of them)
+/// below ignition, so they stop burning; burnt holes stay. Water, a spell, a sprinkler.
+///
+/// The default temperature is [`extinguished_temperature`](sim::combustion::extinguished_temperature):
+/// just below ignition, so the doused cloth keeps its scorch and char. Heat from a fire still
+/// burning elsewhere can relight it. A request on an entity that is not a built cloth, with a
+/// non-finite region or an invalid temperature is logged and ignored.
+#[derive(EntityEvent, Clone, Copy, Debug, PartialEq)]
+pub struct Extinguish {
+    /// The cloth entity.
+    pub entity: Entity,
+    /// World centre and radius (m) of the region; `None` for the whole cloth.
+    pub region: Option<(Vec3, f32)>,
+    /// Temperature to cool to, °C; `None` for just below the material's ignition.
+    pub temperature: Option<f32>,
+}
+
+impl Extinguish {
+    /// Puts out the whole cloth.
+    pub fn all(cloth: Entity) -> Self {
+        Self {
+            entity: cloth,
+            region: None,
+            temperature: None,
+        }
+    }
+
+    /// Puts out the cloth within `radius` (m) of the world point `centre`.
+    pub fn within(cloth: Entity, centre: Vec3, radius: f32) -> Self {
+        Self {
+            entity: cloth,
+            region: Some((centre, radius)),
+            temperature: None,
+        }
+    }
+
+    /// Cools to `celsius` (at most the ignition temperature) instead of just below ignition.
+    pub fn to_temperature(mut self, celsius: f32) -> Self {
+        self.temperature = Some(celsius);
+        self
+    }
+}
+
+/// Applies [`Extinguish`] to a built cloth.
+pub(crate) fn on_extinguish(
+    extinguish: On<Extinguish>,
+    mut cloths: Query<(&mut ClothParticles, &ClothScratch)>,
+) {
+    let event = *extinguish.event();
+    let Ok((mut particles, scratch)) = cloths.get_mut(event.entity) else {
+        warn!(
+            "Extinguish ignored: entity {} is not a built cloth",
+            event.entity
+        );
+        return;
+    };
+    if let Some((centre, radius)) = event.region
+        && !(centre.is_finite() && radius.is_finite() && radius >= 0.0)
+    {
+        warn!(
+            "Extinguish on cloth {} ignored: bad region {centre} r {radius}",
+            event.entity
+        );
+        return;
+    }
+    let material = &scratch.material;
+    let to = event
+        .temperature
+        .unwrap_or_else(|| sim::combustion::extinguished_temperature(material));
+    if !sim::material::valid_temperature(to) {
+        warn!(
+            "Extinguish on cloth {} ignored: bad temperature {to}",
+            event.entity
+        );
+        return;
+    }
+    let particles = &mut particles.0;
+    sim::combustion::extinguish(
+        &particles.position,
+        &mut particles.temperature,
+        &mut particles.state,
+        material,
+        event.region,
+        to,
+    );
 }
 
 /// Triggered on a cloth when it catches fire (no particle was burning, now one is).

@@ -10,6 +10,7 @@
 //! [`BurningClothPlugins`] groups them, so `.build().disable::<X>()` removes one.
 
 mod components;
+mod control;
 mod events;
 mod schedule;
 mod systems;
@@ -18,7 +19,10 @@ pub use components::{
     ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
     ClothTopology,
 };
-pub use events::{ClothBurntOut, ClothIgnited, ClothInstability, Ignite, IgniteAt};
+#[cfg(feature = "smoke")]
+pub(crate) use control::consume_pending_step;
+pub use control::{ClothSimulationControl, ClothStepTiming, simulation_is_running};
+pub use events::{ClothBurntOut, ClothIgnited, ClothInstability, Extinguish, Ignite, IgniteAt};
 pub use schedule::{
     BurningClothSystems, ClothSubstepSchedule, ClothSubstepSystems, SubstepCounter,
 };
@@ -110,7 +114,10 @@ impl Plugin for ClothSimulationPlugin {
         app.init_resource::<ClothEnvironment>()
             .init_resource::<SubstepCounter>()
             .init_resource::<ClothColliders>()
-            .add_observer(events::on_ignite);
+            .init_resource::<ClothSimulationControl>()
+            .init_resource::<ClothStepTiming>()
+            .add_observer(events::on_ignite)
+            .add_observer(events::on_extinguish);
 
         let mut substep = Schedule::new(ClothSubstepSchedule);
         substep.set_executor(SingleThreadedExecutor::new());
@@ -140,20 +147,34 @@ impl Plugin for ClothSimulationPlugin {
                 BurningClothSystems::Cull,
             )
                 .chain()
-                .run_if(has_cloth),
+                .run_if(has_cloth)
+                .run_if(simulation_is_running),
         )
         .add_systems(
             self.schedule,
             (
-                (systems::gather_colliders, systems::prepare_cloths)
+                (
+                    control::start_step_timer,
+                    systems::gather_colliders,
+                    systems::prepare_cloths,
+                )
+                    .chain()
                     .in_set(BurningClothSystems::Prepare),
                 systems::spread_heat.in_set(BurningClothSystems::Heat),
                 systems::combust.in_set(BurningClothSystems::Combust),
                 systems::run_substeps.in_set(BurningClothSystems::Simulate),
-                (systems::guard_cloths, systems::cull_cloths)
+                (
+                    systems::guard_cloths,
+                    systems::cull_cloths,
+                    control::finish_step_timer,
+                )
                     .chain()
                     .in_set(BurningClothSystems::Cull),
             ),
+        )
+        .add_systems(
+            self.schedule,
+            control::consume_pending_step.after(BurningClothSystems::Cull),
         )
         .add_systems(
             PostUpdate,

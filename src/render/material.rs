@@ -35,6 +35,10 @@ pub struct BurnLook {
     pub glow_strength: f32,
     /// Relative amplitude of the rim's flicker, 0 for a steady glow.
     pub flicker: f32,
+    /// 1 draws a temperature heat map instead of the burn look: blue at the initial
+    /// temperature, yellow at ignition, red to white towards the burnt temperature. 0 (default)
+    /// draws the cloth.
+    pub heat_map: f32,
 }
 
 impl Default for BurnLook {
@@ -47,6 +51,7 @@ impl Default for BurnLook {
             glow_width: 0.3,
             glow_strength: 2.5,
             flicker: 0.25,
+            heat_map: 0.0,
         }
     }
 }

@@ -14,7 +14,7 @@
 
 use crate::sim::guard::BlowUpGuard;
 use crate::sim::{
-    BurnMaterial, BurnState, ClothBuilder, ClothSim, GuardSettings, Integrator, SpringKind,
+    BurnMaterial, ClothBuilder, ClothSim, GuardSettings, Integrator, SpringKind,
     cloth::force_params,
 };
 use glam::{Affine3A, Vec3};
@@ -245,17 +245,13 @@ pub fn cases() -> Vec<StabilityCase> {
 
 /// Total energy of the unburnt particles, J (see the module docs).
 pub fn total_energy(sim: &ClothSim) -> f32 {
-    let params = force_params(&sim.material, &sim.topology, &sim.environment);
-    let p = &sim.particles;
-    let gravity: f32 = (0..p.len())
-        .filter(|&i| p.state[i] != BurnState::Burnt)
-        .map(|i| -p.mass[i] * sim.environment.gravity.dot(p.position[i]))
-        .sum();
-    p.kinetic_energy()
-        + sim
-            .springs
-            .potential_energy(&p.position, &p.state, &params.coefficients)
-        + gravity
+    crate::sim::cloth::cloth_energy(
+        &sim.particles,
+        &sim.springs,
+        &sim.material,
+        &sim.topology,
+        &sim.environment,
+    )
 }
 
 fn energy_scale(sim: &ClothSim) -> f32 {

@@ -277,6 +277,25 @@ pub fn force_params(
     }
 }
 
+/// Total mechanical energy of a cloth's unburnt particles, J: kinetic, spring potential
+/// (`½ k (l − l₀)²` over live springs) and gravitational potential relative to the origin.
+pub fn cloth_energy(
+    particles: &Particles,
+    springs: &Springs,
+    material: &BurnMaterial,
+    topology: &Topology,
+    environment: &Environment,
+) -> f32 {
+    let params = force_params(material, topology, environment);
+    let gravity: f32 = (0..particles.len())
+        .filter(|&i| particles.state[i] != BurnState::Burnt)
+        .map(|i| -particles.mass[i] * environment.gravity.dot(particles.position[i]))
+        .sum();
+    particles.kinetic_energy()
+        + springs.potential_energy(&particles.position, &particles.state, &params.coefficients)
+        + gravity
+}
+
 /// Heat parameters of a cloth for the current material, solver and environment.
 pub fn heat_params(
     material: &BurnMaterial,
@@ -542,6 +561,22 @@ impl ClothSim {
             workspace: ClothWorkspace::default(),
             time: 0.0,
         }
+    }
+
+    /// Puts out the fire within `region` (world centre and radius, m; `None` for the whole
+    /// cloth): unburnt particles there are cooled to `to` (default
+    /// [`extinguished_temperature`](super::combustion::extinguished_temperature), never above
+    /// ignition) and stop burning. Returns how many were cooled.
+    pub fn extinguish(&mut self, region: Option<(Vec3, f32)>, to: Option<f32>) -> u32 {
+        let to = to.unwrap_or_else(|| super::combustion::extinguished_temperature(&self.material));
+        super::combustion::extinguish(
+            &self.particles.position,
+            &mut self.particles.temperature,
+            &mut self.particles.state,
+            &self.material,
+            region,
+            to,
+        )
     }
 
     /// Sets particle `index` to the material's seed temperature (if colder).

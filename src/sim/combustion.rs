@@ -1,8 +1,9 @@
 //! Ignition, burning away, and springs shrinking with heat.
 
-use super::material::BurnMaterial;
+use super::material::{BurnMaterial, valid_temperature};
 use super::particles::BurnState;
 use super::springs::{SpringCoefficients, Springs};
+use glam::Vec3;
 
 /// What one combustion update changed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -47,6 +48,57 @@ pub fn update_burn_states(
     report
 }
 
+/// The temperature [`extinguish`] cools to by default: nine tenths of the way from the
+/// material's initial to its ignition temperature, so doused cloth stays scorched and
+/// charred where it was hot but does not burn.
+pub fn extinguished_temperature(material: &BurnMaterial) -> f32 {
+    material.initial_temperature
+        + 0.9 * (material.ignition_temperature - material.initial_temperature)
+}
+
+/// Puts a fire out: every unburnt particle within `radius` of `centre` (every particle with
+/// `region = None`) is cooled to at most `to` (never above the material's ignition
+/// temperature), and the ignited ones among them become intact. Burnt particles stay burnt.
+/// Returns how many particles were cooled. A non-finite region or an invalid temperature
+/// changes nothing.
+pub fn extinguish(
+    position: &[Vec3],
+    temperature: &mut [f32],
+    state: &mut [BurnState],
+    material: &BurnMaterial,
+    region: Option<(Vec3, f32)>,
+    to: f32,
+) -> u32 {
+    if !valid_temperature(to) {
+        return 0;
+    }
+    let to = to.min(material.ignition_temperature);
+    if let Some((centre, radius)) = region
+        && !(centre.is_finite() && radius.is_finite() && radius >= 0.0)
+    {
+        return 0;
+    }
+    let mut cooled = 0;
+    for ((p, t), s) in position.iter().zip(temperature).zip(state) {
+        if *s == BurnState::Burnt {
+            continue;
+        }
+        if let Some((centre, radius)) = region
+            && p.distance_squared(centre) > radius * radius
+        {
+            continue;
+        }
+        if *t > to || t.is_nan() {
+            *t = to;
+            cooled += 1;
+        }
+        if *s == BurnState::Ignited {
+            *s = BurnState::Intact;
+        }
+    }
+    cooled
+}
+
 /// Shrinks the rest length of every live spring by Larboulette's rule as the paper uses it,
 /// per second of `h`:
 ///
@@ -87,6 +139,68 @@ pub fn shrink_rest_lengths(
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn extinguishing_cools_the_region_below_ignition_and_leaves_burnt_particles() {
+        let m = BurnMaterial::COTTON;
+        let position: Vec<Vec3> = (0..4).map(|i| Vec3::new(i as f32, 0.0, 0.0)).collect();
+        let hot = m.ignition_temperature + 100.0;
+        let mut temperature = vec![hot, hot, hot, m.burnt_temperature + 1.0];
+        let mut state = vec![
+            BurnState::Ignited,
+            BurnState::Ignited,
+            BurnState::Ignited,
+            BurnState::Burnt,
+        ];
+        let to = extinguished_temperature(&m);
+        assert!(to < m.ignition_temperature && to > m.initial_temperature);
+        // Only the first two are within 1.5 m of the origin.
+        let cooled = extinguish(
+            &position,
+            &mut temperature,
+            &mut state,
+            &m,
+            Some((Vec3::ZERO, 1.5)),
+            to,
+        );
+        assert_eq!(cooled, 2);
+        assert_eq!(
+            &state[..3],
+            &[BurnState::Intact, BurnState::Intact, BurnState::Ignited]
+        );
+        assert_eq!(state[3], BurnState::Burnt);
+        assert_eq!(temperature[0], to);
+        // The state update agrees: nothing cooled re-ignites.
+        let mut newly = Vec::new();
+        let report = update_burn_states(&temperature, &mut state, &m, &mut newly);
+        assert_eq!((report.newly_ignited, report.ignited), (0, 1));
+        // A temperature above ignition is clamped to it; bad input changes nothing.
+        extinguish(&position, &mut temperature, &mut state, &m, None, 5_000.0);
+        assert!(
+            temperature[..3]
+                .iter()
+                .all(|&t| t <= m.ignition_temperature)
+        );
+        assert_eq!(state[2], BurnState::Intact);
+        let before = temperature.clone();
+        assert_eq!(
+            extinguish(&position, &mut temperature, &mut state, &m, None, f32::NAN),
+            0
+        );
+        assert_eq!(
+            extinguish(
+                &position,
+                &mut temperature,
+                &mut state,
+                &m,
+                Some((Vec3::NAN, 1.0)),
+                20.0
+            ),
+            0
+        );
+        assert_eq!(temperature, before);
+    }
+
     use super::*;
     use crate::sim::SpringKind;
 

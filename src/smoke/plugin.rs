@@ -97,7 +97,9 @@ impl Plugin for SmokePlugin {
                 self.schedule,
                 SmokeSystems
                     .after(BurningClothSystems::Cull)
-                    .run_if(any_with_component::<SmokeEmitter>),
+                    .run_if(any_with_component::<SmokeEmitter>)
+                    .run_if(crate::plugin::simulation_is_running)
+                    .before(crate::plugin::consume_pending_step),
             )
             .add_systems(
                 self.schedule,
