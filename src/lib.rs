@@ -59,9 +59,10 @@ pub mod ui;
 pub mod prelude {
     pub use crate::plugin::{
         BurningClothPlugins, BurningClothSystems, ClothBurntOut, ClothCollider, ClothEnvironment,
-        ClothIgnited, ClothInstability, ClothParticles, ClothSimulationControl,
-        ClothSimulationPlugin, ClothSolver, ClothSprings, ClothStatus, ClothStepTiming,
-        ClothSubstepSystems, ClothTopology, Extinguish, Ignite, IgniteAt,
+        ClothIgnited, ClothInstability, ClothParticles, ClothParticlesBurnt,
+        ClothSimulationControl, ClothSimulationPlugin, ClothSolver, ClothSprings, ClothStatus,
+        ClothStepTiming, ClothSubstepSystems, ClothTopology, Extinguish, FireSpread, HeatSource,
+        Ignite, IgniteAt,
     };
     #[cfg(feature = "render")]
     pub use crate::render::ClothRenderPlugin;

@@ -161,6 +161,19 @@ pub struct ClothBurntOut {
     pub burnt_fraction: f32,
 }
 
+/// Triggered on a cloth in every step in which some of its particles burnt away: how many,
+/// and where (world centroid of those particles). For sound, score, or spreading fire to
+/// props that are not cloth.
+#[derive(EntityEvent, Clone, Copy, Debug, PartialEq)]
+pub struct ClothParticlesBurnt {
+    /// The cloth entity.
+    pub entity: Entity,
+    /// Particles that burnt away in this step.
+    pub count: u32,
+    /// Their centroid, world space, m.
+    pub centroid: Vec3,
+}
+
 /// Triggered on a cloth when the blow-up guard had to put particles back this step: the
 /// solver went past its stability limit (stiffness too high for the substeps, a violent
 /// impulse) or something wrote NaN into the cloth. The cloth stays finite; raise substeps,

@@ -12,6 +12,7 @@
 mod components;
 mod control;
 mod events;
+mod heat_sources;
 mod schedule;
 mod systems;
 
@@ -22,7 +23,11 @@ pub use components::{
 #[cfg(feature = "smoke")]
 pub(crate) use control::consume_pending_step;
 pub use control::{ClothSimulationControl, ClothStepTiming, simulation_is_running};
-pub use events::{ClothBurntOut, ClothIgnited, ClothInstability, Extinguish, Ignite, IgniteAt};
+pub use events::{
+    ClothBurntOut, ClothIgnited, ClothInstability, ClothParticlesBurnt, Extinguish, Ignite,
+    IgniteAt,
+};
+pub use heat_sources::{ClothHeatSources, FireSpread, HeatSource};
 pub use schedule::{
     BurningClothSystems, ClothSubstepSchedule, ClothSubstepSystems, SubstepCounter,
 };
@@ -116,6 +121,8 @@ impl Plugin for ClothSimulationPlugin {
             .init_resource::<ClothColliders>()
             .init_resource::<ClothSimulationControl>()
             .init_resource::<ClothStepTiming>()
+            .init_resource::<ClothHeatSources>()
+            .init_resource::<FireSpread>()
             .add_observer(events::on_ignite)
             .add_observer(events::on_extinguish);
 
@@ -156,11 +163,14 @@ impl Plugin for ClothSimulationPlugin {
                 (
                     control::start_step_timer,
                     systems::gather_colliders,
+                    heat_sources::gather_heat_sources,
                     systems::prepare_cloths,
                 )
                     .chain()
                     .in_set(BurningClothSystems::Prepare),
-                systems::spread_heat.in_set(BurningClothSystems::Heat),
+                (systems::spread_heat, heat_sources::heat_from_sources)
+                    .chain()
+                    .in_set(BurningClothSystems::Heat),
                 systems::combust.in_set(BurningClothSystems::Combust),
                 systems::run_substeps.in_set(BurningClothSystems::Simulate),
                 (

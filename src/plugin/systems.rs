@@ -5,7 +5,9 @@ use super::components::{
     ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
     ClothTopology, PendingIgnitions,
 };
-use super::events::{ClothBurntOut, ClothIgnited, ClothInstability, apply_ignition};
+use super::events::{
+    ClothBurntOut, ClothIgnited, ClothInstability, ClothParticlesBurnt, apply_ignition,
+};
 use super::schedule::{ClothSubstepSchedule, SubstepCounter};
 use super::{ClothColliders, ClothEnvironment};
 use crate::sim::cloth::{
@@ -196,8 +198,8 @@ pub(crate) fn spread_heat(
     }
 }
 
-/// Ignites and burns particles, shrinks springs, and triggers [`ClothIgnited`] and
-/// [`ClothBurntOut`].
+/// Ignites and burns particles, shrinks springs, and triggers [`ClothIgnited`],
+/// [`ClothParticlesBurnt`] and [`ClothBurntOut`].
 pub(crate) fn combust(
     time: Res<Time>,
     mut commands: Commands,
@@ -223,6 +225,18 @@ pub(crate) fn combust(
         );
         status.ignited = report.ignited;
         status.burnt += report.newly_burnt;
+        let newly_burnt = &scratch.workspace.newly_burnt;
+        if !newly_burnt.is_empty() {
+            let sum: Vec3 = newly_burnt
+                .iter()
+                .map(|&i| particles.position[i as usize])
+                .sum();
+            commands.trigger(ClothParticlesBurnt {
+                entity,
+                count: newly_burnt.len() as u32,
+                centroid: sum / newly_burnt.len() as f32,
+            });
+        }
         status.pins_left = particles.pins_left() as u32;
         let burning = report.ignited > 0;
         if burning && !status.burning {

@@ -52,6 +52,8 @@ pub enum ClothError {
     NonFinitePoint,
     /// Every particle has burnt: there is nothing left to ignite.
     NothingLeftToIgnite,
+    /// A triangle mesh that cannot become a cloth, and why.
+    InvalidMesh(&'static str),
     /// A solver setting with an unusable value.
     InvalidSetting {
         /// The setting's name.
@@ -95,6 +97,7 @@ impl fmt::Display for ClothError {
             ),
             Self::NonFinitePoint => write!(f, "a point or vector is not finite"),
             Self::NothingLeftToIgnite => write!(f, "every particle has burnt already"),
+            Self::InvalidMesh(why) => write!(f, "the mesh cannot become a cloth: {why}"),
             Self::InvalidSetting { name, value } => {
                 write!(f, "solver setting {name} = {value} is not usable")
             }

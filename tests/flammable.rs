@@ -1,0 +1,234 @@
+//! Gameplay heat: `HeatSource` entities and fire jumping between cloths, through the ECS.
+
+use bevy::prelude::*;
+use bevy::time::TimeUpdateStrategy;
+use bevy_burning_cloth::prelude::*;
+use std::time::Duration;
+
+fn app() -> App {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, BurningClothPlugins::default()))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_micros(
+            15_625,
+        )));
+    app
+}
+
+/// A 12 x 12 silk square, 3 cm spacing, pinned along its top edge at `origin`.
+fn spawn_square(app: &mut App, origin: Vec3) -> Entity {
+    app.world_mut()
+        .spawn((
+            ClothBuilder::grid(12, 12, 0.03).pin_top_edge(),
+            BurnMaterial::SILK,
+            Transform::from_translation(origin),
+        ))
+        .id()
+}
+
+fn ignited_and_burnt(app: &App, cloth: Entity) -> u32 {
+    let status = app.world().get::<ClothStatus>(cloth).unwrap();
+    status.ignited + status.burnt
+}
+
+#[test]
+fn a_heat_source_ignites_particles_in_its_reach_and_nowhere_else() {
+    let mut app = app();
+    let near = spawn_square(&mut app, Vec3::new(0.0, 2.0, 0.0));
+    let far = spawn_square(&mut app, Vec3::new(3.0, 2.0, 0.0));
+    app.update();
+    // A torch just in front of the near cloth's lower middle.
+    let target = app.world().get::<ClothParticles>(near).unwrap().position[10 * 12 + 6];
+    let torch = target + Vec3::new(0.0, 0.0, 0.02);
+    let radius = 0.06;
+    app.world_mut().spawn((
+        HeatSource::new(radius, 900.0),
+        Transform::from_translation(torch),
+    ));
+    let mut steps = 0;
+    while ignited_and_burnt(&app, near) == 0 {
+        app.update();
+        steps += 1;
+        assert!(steps < 64 * 10, "the torch never lit the cloth");
+    }
+    // At first ignition every ignited particle is within the torch's reach (plus what the
+    // cloth moved in the step).
+    let particles = app.world().get::<ClothParticles>(near).unwrap();
+    for (p, s) in particles.position.iter().zip(&particles.state) {
+        if s.is_ignited() {
+            assert!(
+                p.distance(torch) <= radius + 0.01,
+                "ignited {} m away",
+                p.distance(torch)
+            );
+        }
+    }
+    assert!(
+        steps > 1,
+        "lit at once: the torch must heat, not set a temperature"
+    );
+    for _ in 0..64 * 3 {
+        app.update();
+    }
+    assert_eq!(
+        ignited_and_burnt(&app, far),
+        0,
+        "a cloth out of reach caught fire"
+    );
+    assert!(ignited_and_burnt(&app, near) > 1);
+}
+
+#[test]
+fn a_moving_heat_source_lights_what_it_passes() {
+    let mut app = app();
+    let cloth = spawn_square(&mut app, Vec3::new(0.0, 2.0, 0.0));
+    app.update();
+    // Starts 1 m to the side, out of reach; then sweeps in.
+    let torch = app
+        .world_mut()
+        .spawn((
+            HeatSource::new(0.06, 900.0),
+            Transform::from_xyz(-1.0, 1.8, 0.02),
+        ))
+        .id();
+    for _ in 0..64 {
+        app.update();
+    }
+    assert_eq!(ignited_and_burnt(&app, cloth), 0);
+    app.world_mut()
+        .get_mut::<Transform>(torch)
+        .unwrap()
+        .translation
+        .x = 0.15;
+    for _ in 0..64 * 5 {
+        app.update();
+    }
+    assert!(
+        ignited_and_burnt(&app, cloth) > 0,
+        "the torch moved in but lit nothing"
+    );
+}
+
+/// Two cloths 4 cm apart and one 1 m away; the first is lit.
+fn three_cloths(app: &mut App) -> [Entity; 3] {
+    let lit = spawn_square(app, Vec3::new(0.0, 2.0, 0.0));
+    let close = spawn_square(app, Vec3::new(0.0, 2.0, -0.04));
+    let far = spawn_square(app, Vec3::new(1.0, 2.0, 0.0));
+    app.update();
+    app.world_mut().trigger(Ignite::particle(lit, 11 * 12 + 6));
+    [lit, close, far]
+}
+
+#[test]
+fn fire_spreads_to_a_cloth_close_by_and_not_to_one_far_away() {
+    let mut app = app();
+    let [lit, close, far] = three_cloths(&mut app);
+    let mut steps = 0;
+    while ignited_and_burnt(&app, close) == 0 {
+        app.update();
+        steps += 1;
+        assert!(steps < 64 * 30, "fire never jumped 4 cm");
+    }
+    assert!(ignited_and_burnt(&app, lit) > 0);
+    for _ in 0..64 * 5 {
+        app.update();
+    }
+    assert_eq!(ignited_and_burnt(&app, far), 0, "fire jumped 1 m");
+
+    // With spreading off, the close cloth does not catch.
+    let mut app = self::app();
+    app.insert_resource(FireSpread {
+        enabled: false,
+        ..FireSpread::default()
+    });
+    let [_, close, _] = three_cloths(&mut app);
+    for _ in 0..steps + 64 * 3 {
+        app.update();
+    }
+    assert_eq!(
+        ignited_and_burnt(&app, close),
+        0,
+        "fire jumped with spreading off"
+    );
+}
+
+#[test]
+fn extinguishing_the_first_cloth_stops_the_fire_reaching_the_second() {
+    let mut app = app();
+    let [lit, close, _] = three_cloths(&mut app);
+    for _ in 0..8 {
+        app.update();
+    }
+    assert!(ignited_and_burnt(&app, lit) > 0);
+    assert_eq!(
+        ignited_and_burnt(&app, close),
+        0,
+        "spread before it could be stopped"
+    );
+    app.world_mut().trigger(Extinguish::all(lit));
+    for _ in 0..64 * 10 {
+        app.update();
+    }
+    assert_eq!(
+        ignited_and_burnt(&app, close),
+        0,
+        "the fire reached the second cloth"
+    );
+    let status = *app.world().get::<ClothStatus>(lit).unwrap();
+    assert_eq!(status.ignited, 0, "the first cloth relit");
+}
+
+#[test]
+fn invalid_heat_sources_are_skipped() {
+    let mut app = app();
+    let cloth = spawn_square(&mut app, Vec3::new(0.0, 2.0, 0.0));
+    app.update();
+    let centre = app.world().get::<ClothParticles>(cloth).unwrap().position[60];
+    for source in [
+        HeatSource::new(f32::NAN, 900.0),
+        HeatSource::new(-1.0, 900.0),
+        HeatSource::new(0.1, f32::INFINITY),
+        HeatSource::new(0.1, 900.0).with_rate(f32::NAN),
+        HeatSource::new(0.1, 900.0).with_falloff(-2.0),
+    ] {
+        app.world_mut()
+            .spawn((source, Transform::from_translation(centre)));
+    }
+    for _ in 0..64 * 2 {
+        app.update();
+    }
+    let particles = app.world().get::<ClothParticles>(cloth).unwrap();
+    assert!(
+        particles
+            .temperature
+            .iter()
+            .all(|t| t.is_finite() && *t < 30.0)
+    );
+}
+
+#[test]
+fn burning_away_reports_how_many_particles_and_where() {
+    #[derive(Resource, Default)]
+    struct Burnt(u32, Vec<Vec3>);
+    let mut app = app();
+    app.init_resource::<Burnt>().add_observer(
+        |e: On<ClothParticlesBurnt>, mut burnt: ResMut<Burnt>| {
+            burnt.0 += e.count;
+            burnt.1.push(e.centroid);
+        },
+    );
+    let cloth = spawn_square(&mut app, Vec3::new(0.0, 2.0, 0.0));
+    app.update();
+    app.world_mut()
+        .trigger(Ignite::particle(cloth, 11 * 12 + 6));
+    for _ in 0..64 * 6 {
+        app.update();
+    }
+    let status = *app.world().get::<ClothStatus>(cloth).unwrap();
+    let burnt = app.world().resource::<Burnt>();
+    assert!(status.burnt > 0);
+    assert_eq!(burnt.0, status.burnt, "every burnt particle reported once");
+    // Centroids lie on the cloth: within its 0.33 m square hanging from y = 2 (plus sag).
+    for c in &burnt.1 {
+        assert!(c.x.abs() < 0.5 && c.y < 2.05 && c.y > 1.0, "{c}");
+    }
+}
