@@ -58,17 +58,17 @@ pub mod ui;
 /// The types most users need.
 pub mod prelude {
     pub use crate::plugin::{
-        BurningClothPlugins, BurningClothSystems, ClothBurntOut, ClothCollider, ClothEnvironment,
-        ClothIgnited, ClothInstability, ClothParticles, ClothParticlesBurnt,
-        ClothSimulationControl, ClothSimulationPlugin, ClothSolver, ClothSprings, ClothStatus,
-        ClothStepTiming, ClothSubstepSystems, ClothTopology, Extinguish, FireSpread, HeatSource,
-        Ignite, IgniteAt,
+        BurningClothPlugins, BurningClothSystems, ClothBuildSystems, ClothBurntOut, ClothCollider,
+        ClothEnvironment, ClothIgnited, ClothInstability, ClothParticles, ClothParticlesBurnt,
+        ClothPieceDetached, ClothSimulationControl, ClothSimulationPlugin, ClothSolver,
+        ClothSprings, ClothStatus, ClothStepTiming, ClothSubstepSystems, ClothTopology, Extinguish,
+        FireSpread, HeatSource, Ignite, IgniteAt,
     };
     #[cfg(feature = "render")]
-    pub use crate::render::ClothRenderPlugin;
+    pub use crate::render::{ClothRenderPlugin, Flammable};
     pub use crate::sim::{
         BurnMaterial, BurnState, ClothBuilder, ClothError, ColliderShape, Cutout, GridPlane,
-        Integrator, ProvotSettings, SolverSettings,
+        Integrator, MeshClothBuilder, MeshPins, ProvotSettings, SolverSettings,
     };
     #[cfg(feature = "smoke")]
     pub use crate::smoke::{KindSettings, SmokeEmitter, SmokeKind, SmokePlugin, SmokeSettings};

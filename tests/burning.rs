@@ -233,3 +233,56 @@ fn the_physical_heat_model_burns_a_cloth_away() {
     );
     assert!(sim.particles.temperature.iter().all(|t| t.is_finite()));
 }
+
+/// A row burnt across cuts a hanging cloth in two: the lower piece falls as a free body with
+/// the model's linear air drag, `y = g/c (t − (1 − e^(−ct))/c)` with `c = drag / density`
+/// (nothing holds it: no bending spring across the burnt row survives), while the pinned
+/// upper part stays.
+#[test]
+fn a_piece_burnt_loose_falls_while_the_pinned_part_stays() {
+    use bevy_burning_cloth::sim::PieceTracker;
+    let columns = 10;
+    let mut sim = ClothSim::new(
+        &ClothBuilder::grid(columns, 10, 0.05).pin_top_edge(),
+        BurnMaterial::COTTON,
+        Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
+    )
+    .unwrap();
+    // Let it settle, then burn row 5 across in one go.
+    for _ in 0..120 {
+        sim.step(1.0 / 60.0);
+    }
+    let row = |r: u32| (r * columns..(r + 1) * columns).map(|i| i as usize);
+    let lower: Vec<usize> = (6..10).flat_map(row).collect();
+    let upper: Vec<usize> = (0..5).flat_map(row).collect();
+    let centroid = |sim: &ClothSim, set: &[usize]| {
+        set.iter().map(|&i| sim.particles.position[i]).sum::<Vec3>() / set.len() as f32
+    };
+    let mut tracker = PieceTracker::default();
+    let mut detached = Vec::new();
+    tracker.update(&sim.particles, &sim.springs, &mut detached);
+    for i in row(5) {
+        sim.particles.temperature[i] = BurnMaterial::COTTON.burnt_temperature + 100.0;
+    }
+    // Keep the rest cold, so the only change is the cut.
+    sim.material.heat_spread_rate = 0.0;
+    sim.material.self_heating_rate = 0.0;
+    let (lower_start, upper_start) = (centroid(&sim, &lower), centroid(&sim, &upper));
+    sim.step(1.0 / 60.0);
+    tracker.update(&sim.particles, &sim.springs, &mut detached);
+    assert_eq!(detached.len(), 1, "one piece came off");
+    assert_eq!(detached[0].particles, 40);
+    let t = 0.5;
+    for _ in 1..30 {
+        sim.step(1.0 / 60.0);
+    }
+    let fall = lower_start.y - centroid(&sim, &lower).y;
+    let c = BurnMaterial::COTTON.air_drag / BurnMaterial::COTTON.areal_density;
+    let expected = 9.81 / c * (t - (1.0 - (-c * t).exp()) / c);
+    assert!(
+        (fall - expected).abs() < 0.03 * expected,
+        "fell {fall} m in {t} s, a free body with drag falls {expected} m"
+    );
+    let upper_moved = (centroid(&sim, &upper) - upper_start).length();
+    assert!(upper_moved < 0.05, "the pinned part moved {upper_moved} m");
+}

@@ -232,3 +232,122 @@ fn burning_away_reports_how_many_particles_and_where() {
         assert!(c.x.abs() < 0.5 && c.y < 2.05 && c.y > 1.0, "{c}");
     }
 }
+
+/// A primitive plane mesh made `Flammable` becomes a cloth: one particle per vertex, one
+/// structural spring per edge, one bending spring per interior edge, pinned along its top.
+#[cfg(feature = "render")]
+#[test]
+fn a_flammable_plane_mesh_becomes_a_cloth_and_burns() {
+    use bevy_burning_cloth::sim::SpringKind;
+    let mut app = App::new();
+    app.add_plugins((
+        MinimalPlugins,
+        AssetPlugin::default(),
+        BurningClothPlugins::default(),
+    ))
+    .init_asset::<Mesh>()
+    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_micros(
+        15_625,
+    )));
+    // Plane3d facing +z, 1 m x 1 m, 4 subdivisions: 6 x 6 vertices, 5 x 5 quads.
+    let mesh = Plane3d::new(Vec3::Z, Vec2::splat(0.5))
+        .mesh()
+        .subdivisions(4)
+        .build();
+    let vertices = mesh.count_vertices();
+    assert_eq!(vertices, 36);
+    let handle = app.world_mut().resource_mut::<Assets<Mesh>>().add(mesh);
+    let banner = app
+        .world_mut()
+        .spawn((
+            Flammable::pinned_above(0.49),
+            Mesh3d(handle),
+            BurnMaterial::PAPER,
+            Transform::from_xyz(0.0, 2.0, 0.0),
+        ))
+        .id();
+    app.update();
+    app.update();
+    let particles = app
+        .world()
+        .get::<ClothParticles>(banner)
+        .expect("the mesh became a cloth");
+    assert_eq!(particles.len(), 36);
+    let pinned = (0..36).filter(|&i| particles.is_pinned(i)).count();
+    assert_eq!(pinned, 6, "the top row of vertices is pinned");
+    let springs = app.world().get::<ClothSprings>(banner).unwrap();
+    let count = |kind| springs.kind.iter().filter(|k| **k == kind).count();
+    let edges = 2 * 6 * 5 + 5 * 5;
+    assert_eq!(count(SpringKind::Structural), edges);
+    assert_eq!(count(SpringKind::Bend), edges - 4 * 5);
+    let total_mass: f32 = particles.mass.iter().sum();
+    assert!((total_mass - BurnMaterial::PAPER.areal_density).abs() < 1e-4);
+
+    // It hangs from its pins and burns like any cloth.
+    app.world_mut()
+        .trigger(Ignite::at_world_point(banner, Vec3::new(0.0, 1.6, 0.0)));
+    for _ in 0..64 * 8 {
+        app.update();
+    }
+    let status = *app.world().get::<ClothStatus>(banner).unwrap();
+    assert!(status.burnt > 0, "the banner did not burn");
+    let particles = app.world().get::<ClothParticles>(banner).unwrap();
+    assert!(particles.is_finite());
+}
+
+#[cfg(feature = "render")]
+#[test]
+fn a_mesh_that_cannot_burn_is_left_alone() {
+    let mut app = App::new();
+    app.add_plugins((
+        MinimalPlugins,
+        AssetPlugin::default(),
+        BurningClothPlugins::default(),
+    ))
+    .init_asset::<Mesh>();
+    let lines = Mesh::new(
+        bevy::mesh::PrimitiveTopology::LineList,
+        bevy::asset::RenderAssetUsages::default(),
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, vec![[0.0f32; 3]; 4]);
+    let handle = app.world_mut().resource_mut::<Assets<Mesh>>().add(lines);
+    let entity = app
+        .world_mut()
+        .spawn((Flammable::default(), Mesh3d(handle), Transform::default()))
+        .id();
+    app.update();
+    app.update();
+    assert!(app.world().get::<ClothParticles>(entity).is_none());
+    assert!(app.world().get::<Flammable>(entity).is_none());
+}
+
+#[test]
+fn a_piece_cut_loose_by_burning_is_reported_once() {
+    #[derive(Resource, Default)]
+    struct Detached(Vec<u32>);
+    let mut app = app();
+    app.init_resource::<Detached>().add_observer(
+        |e: On<ClothPieceDetached>, mut seen: ResMut<Detached>| {
+            seen.0.push(e.particles);
+        },
+    );
+    let cloth = spawn_square(&mut app, Vec3::new(0.0, 2.0, 0.0));
+    app.update();
+    for _ in 0..10 {
+        app.update();
+    }
+    assert!(app.world().resource::<Detached>().0.is_empty());
+    // Burn row 6 across: rows 7 to 11 (60 particles) come loose.
+    {
+        let mut particles = app.world_mut().get_mut::<ClothParticles>(cloth).unwrap();
+        for i in 6 * 12..7 * 12 {
+            particles.temperature[i] = 5_000.0;
+        }
+    }
+    for _ in 0..30 {
+        app.update();
+    }
+    let seen = &app.world().resource::<Detached>().0;
+    assert!(!seen.is_empty(), "no piece reported");
+    assert!(seen[0] <= 60 && seen[0] >= 40, "{seen:?}");
+}

@@ -1,6 +1,6 @@
 //! Components of a cloth entity. The simulation data lives here; particles are not entities.
 
-use crate::sim::{self, BurnMaterial, ClothBuilder};
+use crate::sim::{self, BurnMaterial, ClothBuilder, MeshClothBuilder};
 use bevy::ecs::component::{Mutable, StorageType};
 use bevy::prelude::*;
 
@@ -9,6 +9,15 @@ use bevy::prelude::*;
 /// components ([`ClothParticles`], [`ClothSprings`], [`ClothTopology`], …). An invalid
 /// builder is logged as an error and removed.
 impl Component for ClothBuilder {
+    const STORAGE_TYPE: StorageType = StorageType::Table;
+    type Mutability = Mutable;
+}
+
+/// A cloth to build from a triangle mesh (local positions and triangles; pins by rule), like
+/// [`ClothBuilder`] for grids: spawn it with a [`BurnMaterial`] and a [`Transform`]; changing
+/// or re-inserting it rebuilds the cloth. With the `render` feature, `Flammable` on an entity
+/// with a `Mesh3d` makes one from the mesh.
+impl Component for MeshClothBuilder {
     const STORAGE_TYPE: StorageType = StorageType::Table;
     type Mutability = Mutable;
 }
@@ -55,6 +64,10 @@ pub struct ClothScratch {
     pub environment: sim::Environment,
     /// Force parameters of the current substep.
     pub force_params: sim::ForceParams,
+    /// The cloth's connected pieces, and which came loose.
+    pub pieces: sim::PieceTracker,
+    /// Pieces that came loose in the last step (scratch for the events).
+    pub detached: Vec<sim::DetachedPiece>,
 }
 
 impl ClothScratch {
@@ -66,6 +79,8 @@ impl ClothScratch {
             solver,
             environment: sim::Environment::default(),
             force_params: sim::ForceParams::default(),
+            pieces: sim::PieceTracker::default(),
+            detached: Vec::new(),
         }
     }
 }

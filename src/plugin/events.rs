@@ -2,7 +2,7 @@
 //! [`ClothIgnited`] and [`ClothBurntOut`] tell gameplay what happened.
 
 use super::components::{ClothParticles, ClothScratch, PendingIgnitions};
-use crate::sim::{self, BurnMaterial, ClothBuilder, ClothError};
+use crate::sim::{self, BurnMaterial, ClothBuilder, ClothError, MeshClothBuilder};
 use bevy::prelude::*;
 
 /// Where on a cloth an [`Ignite`] lands.
@@ -161,6 +161,19 @@ pub struct ClothBurntOut {
     pub burnt_fraction: f32,
 }
 
+/// Triggered on a cloth when burning cuts a piece of it loose from every pin: the piece falls
+/// (and keeps burning) from now on. Once per piece; a loose piece splitting again does not
+/// trigger it. For a sound, a score, or to hand the piece to gameplay.
+#[derive(EntityEvent, Clone, Copy, Debug, PartialEq)]
+pub struct ClothPieceDetached {
+    /// The cloth entity.
+    pub entity: Entity,
+    /// Particles in the piece.
+    pub particles: u32,
+    /// Its centroid when it came loose, world space, m.
+    pub centroid: Vec3,
+}
+
 /// Triggered on a cloth in every step in which some of its particles burnt away: how many,
 /// and where (world centroid of those particles). For sound, score, or spreading fire to
 /// props that are not cloth.
@@ -206,7 +219,10 @@ pub(crate) fn apply_ignition(
 pub(crate) fn on_ignite(
     ignite: On<Ignite>,
     mut cloths: Query<(&mut ClothParticles, Option<&BurnMaterial>)>,
-    mut pending: Query<Option<&mut PendingIgnitions>, With<ClothBuilder>>,
+    mut pending: Query<
+        Option<&mut PendingIgnitions>,
+        Or<(With<ClothBuilder>, With<MeshClothBuilder>)>,
+    >,
     mut commands: Commands,
 ) {
     let event = *ignite.event();

@@ -24,8 +24,8 @@ pub use components::{
 pub(crate) use control::consume_pending_step;
 pub use control::{ClothSimulationControl, ClothStepTiming, simulation_is_running};
 pub use events::{
-    ClothBurntOut, ClothIgnited, ClothInstability, ClothParticlesBurnt, Extinguish, Ignite,
-    IgniteAt,
+    ClothBurntOut, ClothIgnited, ClothInstability, ClothParticlesBurnt, ClothPieceDetached,
+    Extinguish, Ignite, IgniteAt,
 };
 pub use heat_sources::{ClothHeatSources, FireSpread, HeatSource};
 pub use schedule::{
@@ -43,6 +43,12 @@ use bevy::transform::TransformSystems;
 /// logged and the previous values kept.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Deref, DerefMut)]
 pub struct ClothEnvironment(pub sim::Environment);
+
+/// The systems that build cloths from [`ClothBuilder`](sim::ClothBuilder)s and
+/// [`MeshClothBuilder`](sim::MeshClothBuilder)s (in `PostUpdate`, after transform
+/// propagation).
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ClothBuildSystems;
 
 /// Every [`ClothCollider`] in world space, gathered once per step.
 #[derive(Resource, Clone, Debug, Default)]
@@ -188,9 +194,12 @@ impl Plugin for ClothSimulationPlugin {
         )
         .add_systems(
             PostUpdate,
-            systems::build_cloths
-                .after(TransformSystems::Propagate)
-                .run_if(any_with_component::<sim::ClothBuilder>),
+            (
+                systems::build_cloths.run_if(any_with_component::<sim::ClothBuilder>),
+                systems::build_mesh_cloths.run_if(any_with_component::<sim::MeshClothBuilder>),
+            )
+                .in_set(ClothBuildSystems)
+                .after(TransformSystems::Propagate),
         );
     }
 }

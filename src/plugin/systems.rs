@@ -6,7 +6,8 @@ use super::components::{
     ClothTopology, PendingIgnitions,
 };
 use super::events::{
-    ClothBurntOut, ClothIgnited, ClothInstability, ClothParticlesBurnt, apply_ignition,
+    ClothBurntOut, ClothIgnited, ClothInstability, ClothParticlesBurnt, ClothPieceDetached,
+    apply_ignition,
 };
 use super::schedule::{ClothSubstepSchedule, SubstepCounter};
 use super::{ClothColliders, ClothEnvironment};
@@ -15,7 +16,7 @@ use crate::sim::cloth::{
     heat_phase, integrate_phase,
 };
 use crate::sim::integrate::drive_pins;
-use crate::sim::{BurnMaterial, BurnState, ClothBuilder};
+use crate::sim::{BurnMaterial, BurnState, ClothBuilder, MeshClothBuilder};
 use bevy::prelude::*;
 
 /// Builds the simulation components of every new or changed [`ClothBuilder`].
@@ -35,45 +36,80 @@ pub(crate) fn build_cloths(
 ) {
     for (entity, builder, material, solver, transform, pending) in &builders {
         let material = material.copied().unwrap_or_default();
-        let solver = solver.copied().unwrap_or_default();
-        if let Err(error) = solver.validate() {
-            error!("cloth {entity} not built: {error}");
-            continue;
-        }
-        let parts = match builder.build(&material, transform.affine()) {
-            Ok(parts) => parts,
-            Err(error) => {
-                error!("cloth {entity} not built: {error}");
-                continue;
-            }
-        };
-        let mut particles = ClothParticles(parts.particles);
-        for ignite in pending.iter().flat_map(|p| &p.0) {
-            if let Err(error) =
-                apply_ignition(&mut particles, &material, ignite.at, ignite.temperature)
-            {
-                warn!("Ignite on cloth {entity} ignored: {error}");
-            }
-        }
-        let status = ClothStatus {
-            particles: particles.len() as u32,
-            pins_left: particles.pins_left() as u32,
-            live_triangles: parts.topology.live_triangle_count() as u32,
-            ..default()
-        };
-        commands
-            .entity(entity)
-            .remove::<PendingIgnitions>()
-            .insert((
-                particles,
-                ClothSprings(parts.springs),
-                ClothTopology(parts.topology),
-                ClothScratch::new(material, solver.0),
-                status,
-                material,
-                solver,
-            ));
+        let parts = builder.build(&material, transform.affine());
+        insert_cloth(&mut commands, entity, parts, material, solver, pending);
     }
+}
+
+/// Builds the simulation components of every new or changed [`MeshClothBuilder`].
+pub(crate) fn build_mesh_cloths(
+    mut commands: Commands,
+    builders: Query<
+        (
+            Entity,
+            &MeshClothBuilder,
+            Option<&BurnMaterial>,
+            Option<&ClothSolver>,
+            &GlobalTransform,
+            Option<&PendingIgnitions>,
+        ),
+        Changed<MeshClothBuilder>,
+    >,
+) {
+    for (entity, builder, material, solver, transform, pending) in &builders {
+        let material = material.copied().unwrap_or_default();
+        let parts = builder.build(&material, transform.affine());
+        insert_cloth(&mut commands, entity, parts, material, solver, pending);
+    }
+}
+
+/// Inserts a built cloth's components (or logs why it was not built), applying ignitions that
+/// waited for it.
+fn insert_cloth(
+    commands: &mut Commands,
+    entity: Entity,
+    parts: Result<crate::sim::ClothParts, crate::sim::ClothError>,
+    material: BurnMaterial,
+    solver: Option<&ClothSolver>,
+    pending: Option<&PendingIgnitions>,
+) {
+    let solver = solver.copied().unwrap_or_default();
+    if let Err(error) = solver.validate() {
+        error!("cloth {entity} not built: {error}");
+        return;
+    }
+    let parts = match parts {
+        Ok(parts) => parts,
+        Err(error) => {
+            error!("cloth {entity} not built: {error}");
+            return;
+        }
+    };
+    let mut particles = ClothParticles(parts.particles);
+    for ignite in pending.iter().flat_map(|p| &p.0) {
+        if let Err(error) = apply_ignition(&mut particles, &material, ignite.at, ignite.temperature)
+        {
+            warn!("Ignite on cloth {entity} ignored: {error}");
+        }
+    }
+    let status = ClothStatus {
+        particles: particles.len() as u32,
+        pins_left: particles.pins_left() as u32,
+        live_triangles: parts.topology.live_triangle_count() as u32,
+        ..default()
+    };
+    commands
+        .entity(entity)
+        .remove::<PendingIgnitions>()
+        .insert((
+            particles,
+            ClothSprings(parts.springs),
+            ClothTopology(parts.topology),
+            ClothScratch::new(material, solver.0),
+            status,
+            material,
+            solver,
+        ));
 }
 
 /// Applies valid material and solver changes, drives pins, picks each cloth's substeps.
@@ -198,8 +234,8 @@ pub(crate) fn spread_heat(
     }
 }
 
-/// Ignites and burns particles, shrinks springs, and triggers [`ClothIgnited`],
-/// [`ClothParticlesBurnt`] and [`ClothBurntOut`].
+/// Ignites and burns particles, shrinks springs, tracks loose pieces, and triggers
+/// [`ClothIgnited`], [`ClothParticlesBurnt`], [`ClothPieceDetached`] and [`ClothBurntOut`].
 pub(crate) fn combust(
     time: Res<Time>,
     mut commands: Commands,
@@ -226,6 +262,19 @@ pub(crate) fn combust(
         status.ignited = report.ignited;
         status.burnt += report.newly_burnt;
         let newly_burnt = &scratch.workspace.newly_burnt;
+        if !newly_burnt.is_empty() || !scratch.pieces.tracks(particles.len()) {
+            scratch.detached.clear();
+            scratch
+                .pieces
+                .update(&particles, &springs, &mut scratch.detached);
+            for piece in &scratch.detached {
+                commands.trigger(ClothPieceDetached {
+                    entity,
+                    particles: piece.particles,
+                    centroid: piece.centroid,
+                });
+            }
+        }
         if !newly_burnt.is_empty() {
             let sum: Vec3 = newly_burnt
                 .iter()

@@ -19,9 +19,11 @@
 //! Click-to-ignite uses Bevy's mesh picking: the plugin adds `MeshPickingPlugin` when
 //! picking is present (as with `DefaultPlugins`). [`ClickToIgnite`] turns it off.
 
+pub mod flammable;
 pub mod material;
 pub mod vertices;
 
+pub use flammable::Flammable;
 pub use material::{BurnExtension, BurnLook, BurningClothMaterial, burning_cloth_material};
 
 use crate::plugin::{ClothParticles, ClothScratch, ClothTopology, Ignite};
@@ -39,7 +41,14 @@ pub struct ClothRenderPlugin;
 impl Plugin for ClothRenderPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<ClickToIgnite>()
-            .add_observer(ignite_on_click);
+            .add_observer(ignite_on_click)
+            .add_systems(
+                PostUpdate,
+                flammable::make_flammable
+                    .before(crate::plugin::ClothBuildSystems)
+                    .run_if(resource_exists::<Assets<Mesh>>)
+                    .run_if(any_with_component::<Flammable>),
+            );
         if !app.is_plugin_added::<PbrPlugin>() {
             info!(
                 "ClothRenderPlugin: no PbrPlugin in this app (headless, or added before \
@@ -58,7 +67,7 @@ impl Plugin for ClothRenderPlugin {
                 PostUpdate,
                 (attach_cloth_meshes, sync_cloth_meshes)
                     .chain()
-                    .after(bevy::transform::TransformSystems::Propagate)
+                    .after(crate::plugin::ClothBuildSystems)
                     .run_if(any_with_component::<ClothParticles>),
             );
     }
@@ -89,6 +98,7 @@ fn attach_cloth_meshes(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<BurningClothMaterial>>,
+    standard_materials: Res<Assets<StandardMaterial>>,
     cloths: Query<
         (
             Entity,
@@ -96,11 +106,12 @@ fn attach_cloth_meshes(
             &ClothTopology,
             &BurnMaterial,
             Has<MeshMaterial3d<BurningClothMaterial>>,
+            Option<&MeshMaterial3d<StandardMaterial>>,
         ),
         Added<ClothTopology>,
     >,
 ) {
-    for (entity, particles, topology, material, has_material) in &cloths {
+    for (entity, particles, topology, material, has_material, standard) in &cloths {
         let n = particles.len();
         let uv: Vec<[f32; 2]> = topology.uv.iter().map(|uv| uv.to_array()).collect();
         let mesh = Mesh::new(
@@ -115,9 +126,22 @@ fn attach_cloth_meshes(
         let mut entity_commands = commands.entity(entity);
         entity_commands.insert((Mesh3d(meshes.add(mesh)), ClothMesh::default()));
         if !has_material {
-            entity_commands.insert(MeshMaterial3d(
-                materials.add(burning_cloth_material(material)),
-            ));
+            // A mesh made flammable keeps its own look as the base of the burning one.
+            let base = standard.and_then(|handle| standard_materials.get(&handle.0));
+            let burning = match base {
+                Some(base) => BurningClothMaterial {
+                    base: StandardMaterial {
+                        double_sided: true,
+                        cull_mode: None,
+                        ..base.clone()
+                    },
+                    extension: BurnExtension::default(),
+                },
+                None => burning_cloth_material(material),
+            };
+            entity_commands
+                .remove::<MeshMaterial3d<StandardMaterial>>()
+                .insert(MeshMaterial3d(materials.add(burning)));
         }
     }
 }

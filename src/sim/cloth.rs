@@ -385,6 +385,9 @@ pub fn combust_phase(
         material,
         &mut workspace.newly_burnt,
     );
+    if !workspace.newly_burnt.is_empty() {
+        springs.sever_spanning(&particles.state);
+    }
     let coefficients = SpringCoefficients::from_material(material, topology.particle_mass);
     shrink_rest_lengths(
         springs,
@@ -606,7 +609,8 @@ impl ClothSim {
         let s = &self.springs;
         let springs = (s.a.capacity() + s.b.capacity()) * size_of::<u32>()
             + (s.rest_length.capacity() + s.initial_rest_length.capacity()) * size_of::<f32>()
-            + s.kind.capacity();
+            + s.kind.capacity()
+            + s.spans.capacity() * size_of::<[u32; 2]>();
         let t = &self.topology;
         let topology = t.triangles.capacity() * size_of::<[u32; 3]>()
             + t.uv.capacity() * size_of::<glam::Vec2>()

@@ -331,11 +331,28 @@ fn grid_springs(grid: GridShape, position: &[Vec3]) -> Springs {
                     SpringKind::Shear,
                 );
             }
+        }
+    }
+    // Bending springs two apart, each spanning the particle between its ends.
+    for row in 0..rows {
+        for column in 0..columns {
+            let here = grid.index(column, row);
+            let mut bend = |far: usize, middle: usize| {
+                let rest = position[here].distance(position[far]);
+                let middle = middle as u32;
+                springs.push_spanning(
+                    here as u32,
+                    far as u32,
+                    rest,
+                    SpringKind::Bend,
+                    [middle, middle],
+                );
+            };
             if column + 2 < columns {
-                add(here, grid.index(column + 2, row), SpringKind::Bend);
+                bend(grid.index(column + 2, row), grid.index(column + 1, row));
             }
             if row + 2 < rows {
-                add(here, grid.index(column, row + 2), SpringKind::Bend);
+                bend(grid.index(column, row + 2), grid.index(column, row + 1));
             }
         }
     }

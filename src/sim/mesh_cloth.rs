@@ -273,7 +273,7 @@ fn mesh_springs(triangles: &[[u32; 3]], position: &[Vec3]) -> Springs {
     }
     edges.sort_unstable();
     let mut springs = Springs::default();
-    let mut bends: Vec<(u32, u32)> = Vec::new();
+    let mut bends: Vec<(u32, u32, [u32; 2])> = Vec::new();
     let mut i = 0;
     while i < edges.len() {
         let (a, b, _) = edges[i];
@@ -290,19 +290,20 @@ fn mesh_springs(triangles: &[[u32; 3]], position: &[Vec3]) -> Springs {
         if j - i == 2 {
             let (p, q) = (edges[i].2, edges[i + 1].2);
             if p != q {
-                bends.push((p.min(q), p.max(q)));
+                bends.push((p.min(q), p.max(q), [a, b]));
             }
         }
         i = j;
     }
     bends.sort_unstable();
-    bends.dedup();
-    for (p, q) in bends {
-        springs.push(
+    bends.dedup_by_key(|(p, q, _)| (*p, *q));
+    for (p, q, edge) in bends {
+        springs.push_spanning(
             p,
             q,
             position[p as usize].distance(position[q as usize]),
             SpringKind::Bend,
+            edge,
         );
     }
     springs

@@ -22,6 +22,7 @@
 //! | [`heat_sources`] | heat from torches, fireballs and other cloths' fires |
 //! | [`spatial_hash`] | the O(n) neighbour search behind proximity heating |
 //! | [`topology`] | triangles and culling of burnt ones |
+//! | [`pieces`] | connected pieces of a cloth and which have burnt loose from every pin |
 //! | [`cloth`] | one step as phases, and [`ClothSim`] that runs them all |
 //!
 //! Units: metres, kilograms, seconds, degrees Celsius.
@@ -45,6 +46,7 @@ pub mod integrate;
 pub mod material;
 pub mod mesh_cloth;
 pub mod particles;
+pub mod pieces;
 pub mod provot;
 pub mod spatial_hash;
 pub mod springs;
@@ -62,6 +64,7 @@ pub use integrate::Integrator;
 pub use material::{BurnMaterial, MaterialError};
 pub use mesh_cloth::{MeshClothBuilder, MeshPins};
 pub use particles::{BurnState, Particles};
+pub use pieces::{DetachedPiece, PieceTracker, Pieces};
 pub use provot::ProvotSettings;
 pub use spatial_hash::SpatialHash;
 pub use springs::{SpringCoefficients, SpringKind, Springs};

@@ -43,7 +43,14 @@ pub struct Springs {
     pub initial_rest_length: Vec<f32>,
     /// Kind of each spring.
     pub kind: Vec<SpringKind>,
+    /// Particles each spring passes over, [`NO_SPAN`] where none: a bending spring spans the
+    /// particle between its ends (grid) or the edge between its ends (mesh). When one of them
+    /// burns, the cloth the spring stood for is gone and [`Springs::sever_spanning`] cuts it.
+    pub spans: Vec<[u32; 2]>,
 }
+
+/// No spanned particle.
+pub const NO_SPAN: u32 = u32::MAX;
 
 impl Springs {
     /// Number of springs.
@@ -63,6 +70,36 @@ impl Springs {
         self.rest_length.push(rest);
         self.initial_rest_length.push(rest);
         self.kind.push(kind);
+        self.spans.push([NO_SPAN; 2]);
+    }
+
+    /// Adds a spring that passes over the particles `spans` (use [`NO_SPAN`] for none).
+    pub fn push_spanning(&mut self, a: u32, b: u32, rest: f32, kind: SpringKind, spans: [u32; 2]) {
+        self.push(a, b, rest, kind);
+        if let Some(last) = self.spans.last_mut() {
+            *last = spans;
+        }
+    }
+
+    /// Cuts every live spring that passes over a burnt particle, so no force crosses a burnt
+    /// gap (a bending spring would otherwise hold a burnt-loose piece on). A cut spring's
+    /// second end is redirected to the burnt particle it spanned, which makes it dead for
+    /// every loop that checks its ends. Returns how many were cut. Cheap to call when nothing
+    /// burnt: one pass over the springs.
+    pub fn sever_spanning(&mut self, state: &[BurnState]) -> u32 {
+        let mut cut = 0;
+        for s in 0..self.len() {
+            for span in self.spans[s] {
+                if span != NO_SPAN
+                    && state.get(span as usize).is_some_and(|st| st.is_burnt())
+                    && self.is_live(s, state)
+                {
+                    self.b[s] = span;
+                    cut += 1;
+                }
+            }
+        }
+        cut
     }
 
     /// Number of springs of one kind.

@@ -42,6 +42,7 @@ pub(super) struct PanelParams<'w, 's> {
         ),
     >,
     builders: Query<'w, 's, &'static mut ClothBuilder>,
+    mesh_builders: Query<'w, 's, &'static mut crate::sim::MeshClothBuilder>,
     #[cfg(feature = "smoke")]
     smoke: Query<'w, 's, &'static mut crate::smoke::SmokeEmitter>,
 }
@@ -119,6 +120,9 @@ fn actions(ui: &mut egui::Ui, p: &mut PanelParams) {
         }
         if ui.button("reset").clicked() {
             for mut builder in &mut p.builders {
+                builder.set_changed();
+            }
+            for mut builder in &mut p.mesh_builders {
                 builder.set_changed();
             }
             #[cfg(feature = "smoke")]

@@ -1,0 +1,365 @@
+//! A corner of a room full of things that burn: a banner made from an ordinary mesh
+//! (`Flammable`), a curtain and a flag (grid cloths) hung close together, a torch you carry
+//! and fireballs you throw. Fire spreads from one to the next.
+//!
+//! Controls: the torch follows the mouse across the wall; `F` throws a fireball from the
+//! camera at the pointer; `E` douses everything within 0.4 m of the torch; `R` resets;
+//! right drag orbits, scroll zooms. A line at the top lists what is burning.
+//!
+//! ```sh
+//! cargo run --example flammable_props
+//! ```
+
+#[path = "common/mod.rs"]
+mod common;
+
+use bevy::prelude::*;
+use bevy::window::PrimaryWindow;
+use bevy_burning_cloth::prelude::*;
+
+/// The plane the torch moves in: just in front of the hangings.
+const TORCH_Z: f32 = 0.07;
+
+fn main() -> AppExit {
+    let checking = common::CheckRun::from_env().is_some();
+    App::new()
+        .add_plugins((
+            DefaultPlugins.set(common::window("bevy_burning_cloth: flammable props")),
+            BurningClothPlugins::default(),
+            common::ExamplePlugin {
+                camera_target: Vec3::new(-0.25, 1.3, 0.0),
+                camera_distance: 3.2,
+            },
+        ))
+        .insert_resource(ClothEnvironment(bevy_burning_cloth::sim::Environment {
+            wind: Vec3::new(0.6, 0.0, 0.25),
+            ..default()
+        }))
+        .init_resource::<Burning>()
+        .add_observer(
+            |e: On<ClothIgnited>, names: Query<&Name>, mut burning: ResMut<Burning>| {
+                let name = names
+                    .get(e.entity)
+                    .map_or("?".to_owned(), |n| n.to_string());
+                info!("{name} caught fire");
+                burning.0.push(name);
+            },
+        )
+        .add_observer(
+            |e: On<ClothBurntOut>, names: Query<&Name>, mut burning: ResMut<Burning>| {
+                let name = names
+                    .get(e.entity)
+                    .map_or("?".to_owned(), |n| n.to_string());
+                info!("{name} burnt out ({:.0} % gone)", 100.0 * e.burnt_fraction);
+                burning.0.retain(|n| *n != name);
+            },
+        )
+        .add_systems(Startup, (spawn_room, spawn_props, spawn_torch, spawn_help))
+        .add_systems(
+            Update,
+            (
+                move_torch.run_if(move || !checking),
+                script_torch.run_if(move || checking),
+                throw_fireball,
+                fly_fireballs,
+                douse,
+                reset,
+                show_burning,
+            ),
+        )
+        .run()
+}
+
+/// Marks what `R` respawns.
+#[derive(Component)]
+struct Prop;
+
+#[derive(Component)]
+struct Torch;
+
+#[derive(Component)]
+struct Fireball {
+    velocity: Vec3,
+    age: f32,
+}
+
+#[derive(Component)]
+struct BurningList;
+
+/// Names of the props on fire, in the order they caught.
+#[derive(Resource, Default)]
+struct Burning(Vec<String>);
+
+fn spawn_room(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    let wood = materials.add(StandardMaterial {
+        base_color: Color::srgb(0.33, 0.24, 0.16),
+        perceptual_roughness: 0.9,
+        ..default()
+    });
+    // The banner's rod and the flag's pole.
+    commands.spawn((
+        Mesh3d(meshes.add(Cylinder::new(0.012, 0.75))),
+        MeshMaterial3d(wood.clone()),
+        Transform::from_xyz(-0.9, 2.01, 0.0)
+            .with_rotation(Quat::from_rotation_z(std::f32::consts::FRAC_PI_2)),
+    ));
+    commands.spawn((
+        Mesh3d(meshes.add(Cylinder::new(0.018, 1.95))),
+        MeshMaterial3d(wood.clone()),
+        Transform::from_xyz(0.0, 0.975, 0.0),
+    ));
+    // The curtain's rail.
+    commands.spawn((
+        Mesh3d(meshes.add(Cylinder::new(0.012, 0.85))),
+        MeshMaterial3d(wood),
+        Transform::from_xyz(-0.3, 2.21, -0.05)
+            .with_rotation(Quat::from_rotation_z(std::f32::consts::FRAC_PI_2)),
+    ));
+}
+
+fn spawn_props(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    // A banner from an ordinary Bevy mesh: a subdivided plane, pinned along its top edge. Its
+    // own StandardMaterial becomes the base of the burning look.
+    commands.spawn((
+        Prop,
+        Name::new("banner"),
+        Flammable::pinned_above(0.49),
+        Mesh3d(
+            meshes.add(
+                Plane3d::new(Vec3::Z, Vec2::new(0.3, 0.5))
+                    .mesh()
+                    .subdivisions(14),
+            ),
+        ),
+        MeshMaterial3d(materials.add(StandardMaterial {
+            base_color: Color::srgb(0.12, 0.32, 0.2),
+            perceptual_roughness: 0.8,
+            ..default()
+        })),
+        BurnMaterial::CLOTH,
+        Transform::from_xyz(-0.9, 1.5, 0.0),
+    ));
+    // A cotton curtain just behind, overlapping the banner's edge by a few centimetres.
+    commands.spawn((
+        Prop,
+        Name::new("curtain"),
+        ClothBuilder::grid(22, 30, 0.035).pin_top_every(3),
+        BurnMaterial::COTTON,
+        Transform::from_xyz(-0.3, 2.2, -0.05),
+    ));
+    // A silk flag on the pole, flying in the breeze, its hoist just in front of the curtain.
+    let columns = 18;
+    let mut flag = ClothBuilder::grid(columns, 12, 0.04);
+    for row in 0..12 {
+        flag = flag.pin(0, row);
+    }
+    commands.spawn((
+        Prop,
+        Name::new("flag"),
+        flag,
+        BurnMaterial::SILK,
+        Transform::from_xyz(0.5 * (columns - 1) as f32 * 0.04 + 0.02, 1.9, 0.0),
+    ));
+}
+
+fn spawn_torch(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    commands
+        .spawn((
+            Torch,
+            HeatSource::default(),
+            Mesh3d(meshes.add(Sphere::new(0.025))),
+            MeshMaterial3d(materials.add(StandardMaterial {
+                base_color: Color::BLACK,
+                emissive: LinearRgba::rgb(12.0, 4.0, 0.6),
+                ..default()
+            })),
+            Transform::from_xyz(-0.2, 0.5, TORCH_Z),
+        ))
+        .with_child(PointLight {
+            color: Color::srgb(1.0, 0.6, 0.25),
+            intensity: 40_000.0,
+            range: 3.0,
+            ..default()
+        });
+}
+
+fn spawn_help(mut commands: Commands) {
+    commands.spawn((
+        Text::new("mouse: carry the torch   F: fireball   E: douse near the torch   R: reset   right drag: orbit"),
+        TextFont {
+            font_size: FontSize::Px(16.0),
+            ..default()
+        },
+        Node {
+            position_type: PositionType::Absolute,
+            left: Val::Px(12.0),
+            bottom: Val::Px(10.0),
+            ..default()
+        },
+    ));
+    commands.spawn((
+        BurningList,
+        Text::new(""),
+        TextFont {
+            font_size: FontSize::Px(18.0),
+            ..default()
+        },
+        TextColor(Color::srgb(1.0, 0.75, 0.4)),
+        Node {
+            position_type: PositionType::Absolute,
+            left: Val::Px(12.0),
+            top: Val::Px(10.0),
+            ..default()
+        },
+    ));
+}
+
+/// Where the pointer meets the torch's plane.
+fn pointer_on_wall(
+    window: &Window,
+    camera: &Camera,
+    camera_transform: &GlobalTransform,
+) -> Option<Vec3> {
+    let cursor = window.cursor_position()?;
+    let ray = camera.viewport_to_world(camera_transform, cursor).ok()?;
+    let distance =
+        ray.intersect_plane(Vec3::new(0.0, 0.0, TORCH_Z), InfinitePlane3d::new(Vec3::Z))?;
+    Some(ray.get_point(distance))
+}
+
+fn move_torch(
+    windows: Query<&Window, With<PrimaryWindow>>,
+    cameras: Query<(&Camera, &GlobalTransform)>,
+    mut torches: Query<&mut Transform, With<Torch>>,
+) {
+    let (Ok(window), Ok((camera, camera_transform))) = (windows.single(), cameras.single()) else {
+        return;
+    };
+    if let Some(point) = pointer_on_wall(window, camera, camera_transform) {
+        for mut transform in &mut torches {
+            transform.translation = point;
+        }
+    }
+}
+
+/// In check mode: hold the torch to the banner's lower corner for two seconds, then take it
+/// away, so what burns after that caught fire from its neighbour.
+fn script_torch(time: Res<Time>, mut torches: Query<&mut Transform, With<Torch>>) {
+    let t = time.elapsed_secs();
+    let at = if t < 2.0 {
+        Vec3::new(-0.75, 1.1, TORCH_Z)
+    } else {
+        Vec3::new(-0.2, 0.4, TORCH_Z)
+    };
+    for mut transform in &mut torches {
+        transform.translation = at;
+    }
+}
+
+fn throw_fireball(
+    keys: Res<ButtonInput<KeyCode>>,
+    mut commands: Commands,
+    windows: Query<&Window, With<PrimaryWindow>>,
+    cameras: Query<(&Camera, &GlobalTransform)>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    if !keys.just_pressed(KeyCode::KeyF) {
+        return;
+    }
+    let (Ok(window), Ok((camera, camera_transform))) = (windows.single(), cameras.single()) else {
+        return;
+    };
+    let start = camera_transform.translation();
+    let target = pointer_on_wall(window, camera, camera_transform)
+        .unwrap_or(start + camera_transform.forward() * 3.0);
+    commands.spawn((
+        Fireball {
+            velocity: (target - start).normalize_or_zero() * 4.0,
+            age: 0.0,
+        },
+        HeatSource::new(0.25, 1100.0).with_rate(8.0),
+        Mesh3d(meshes.add(Sphere::new(0.06))),
+        MeshMaterial3d(materials.add(StandardMaterial {
+            base_color: Color::BLACK,
+            emissive: LinearRgba::rgb(20.0, 6.0, 1.0),
+            ..default()
+        })),
+        Transform::from_translation(start),
+    ));
+}
+
+fn fly_fireballs(
+    time: Res<Time>,
+    mut commands: Commands,
+    mut fireballs: Query<(Entity, &mut Fireball, &mut Transform)>,
+) {
+    let dt = time.delta_secs();
+    for (entity, mut fireball, mut transform) in &mut fireballs {
+        fireball.age += dt;
+        transform.translation += fireball.velocity * dt;
+        // It burns out after three seconds or when it has passed the wall.
+        if fireball.age > 3.0 || transform.translation.z < -1.0 {
+            commands.entity(entity).despawn();
+        }
+    }
+}
+
+fn douse(
+    keys: Res<ButtonInput<KeyCode>>,
+    mut commands: Commands,
+    torches: Query<&Transform, With<Torch>>,
+    cloths: Query<Entity, With<ClothParticles>>,
+) {
+    if !keys.just_pressed(KeyCode::KeyE) {
+        return;
+    }
+    for torch in &torches {
+        for cloth in &cloths {
+            commands.trigger(Extinguish::within(cloth, torch.translation, 0.4));
+        }
+    }
+}
+
+fn reset(
+    keys: Res<ButtonInput<KeyCode>>,
+    mut commands: Commands,
+    props: Query<Entity, With<Prop>>,
+    mut burning: ResMut<Burning>,
+    meshes: ResMut<Assets<Mesh>>,
+    materials: ResMut<Assets<StandardMaterial>>,
+) {
+    if !keys.just_pressed(KeyCode::KeyR) {
+        return;
+    }
+    for entity in &props {
+        commands.entity(entity).despawn();
+    }
+    burning.0.clear();
+    spawn_props(commands, meshes, materials);
+}
+
+fn show_burning(burning: Res<Burning>, mut texts: Query<&mut Text, With<BurningList>>) {
+    if !burning.is_changed() {
+        return;
+    }
+    for mut text in &mut texts {
+        text.0 = if burning.0.is_empty() {
+            "nothing is burning".to_owned()
+        } else {
+            format!("burning: {}", burning.0.join(", "))
+        };
+    }
+}
