@@ -77,18 +77,8 @@ fn spawn_rail(
 }
 
 fn spawn_help(mut commands: Commands) {
-    commands.spawn((
-        Text::new("left click: ignite   right drag: orbit   scroll: zoom   space: ignite corner   R: reset"),
-        TextFont {
-            font_size: FontSize::Px(16.0),
-            ..default()
-        },
-        Node {
-            position_type: PositionType::Absolute,
-            left: Val::Px(12.0),
-            bottom: Val::Px(10.0),
-            ..default()
-        },
+    commands.spawn(common::help_line(
+        "left click: ignite   right drag: orbit   scroll: zoom   space: ignite corner   R: reset",
     ));
 }
 

@@ -32,7 +32,7 @@ fn main() -> AppExit {
             },
         ))
         .insert_resource(ClothEnvironment(bevy_burning_cloth::sim::Environment {
-            wind: Vec3::new(0.6, 0.0, 0.25),
+            wind: Vec3::new(0.25, 0.0, 0.1),
             ..default()
         }))
         .init_resource::<Burning>()
@@ -110,7 +110,7 @@ fn spawn_room(
     commands.spawn((
         Mesh3d(meshes.add(Cylinder::new(0.018, 1.95))),
         MeshMaterial3d(wood.clone()),
-        Transform::from_xyz(0.0, 0.975, 0.0),
+        Transform::from_xyz(0.0, 0.975, -0.02),
     ));
     // The curtain's rail.
     commands.spawn((
@@ -155,7 +155,8 @@ fn spawn_props(
         BurnMaterial::COTTON,
         Transform::from_xyz(-0.3, 2.2, -0.05),
     ));
-    // A silk flag on the pole, flying in the breeze, its hoist just in front of the curtain.
+    // A silk flag on the pole, flying in the breeze, its hoist 3 cm in front of the
+    // curtain's edge.
     let columns = 18;
     let mut flag = ClothBuilder::grid(columns, 12, 0.04);
     for row in 0..12 {
@@ -166,7 +167,7 @@ fn spawn_props(
         Name::new("flag"),
         flag,
         BurnMaterial::SILK,
-        Transform::from_xyz(0.5 * (columns - 1) as f32 * 0.04 + 0.02, 1.9, 0.0),
+        Transform::from_xyz(0.5 * (columns - 1) as f32 * 0.04 + 0.02, 1.9, -0.02),
     ));
 }
 
@@ -196,18 +197,8 @@ fn spawn_torch(
 }
 
 fn spawn_help(mut commands: Commands) {
-    commands.spawn((
-        Text::new("mouse: carry the torch   F: fireball   E: douse near the torch   R: reset   right drag: orbit"),
-        TextFont {
-            font_size: FontSize::Px(16.0),
-            ..default()
-        },
-        Node {
-            position_type: PositionType::Absolute,
-            left: Val::Px(12.0),
-            bottom: Val::Px(10.0),
-            ..default()
-        },
+    commands.spawn(common::help_line(
+        "mouse: carry the torch   F: fireball   E: douse near the torch   R: reset   right drag: orbit",
     ));
     commands.spawn((
         BurningList,

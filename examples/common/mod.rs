@@ -84,6 +84,24 @@ impl Plugin for ExamplePlugin {
     }
 }
 
+/// A line of help text along the bottom left of the window.
+#[allow(dead_code)] // Not every example shows one.
+pub fn help_line(text: &str) -> impl Bundle {
+    (
+        Text::new(text),
+        TextFont {
+            font_size: FontSize::Px(16.0),
+            ..default()
+        },
+        Node {
+            position_type: PositionType::Absolute,
+            left: Val::Px(12.0),
+            bottom: Val::Px(10.0),
+            ..default()
+        },
+    )
+}
+
 /// Window settings for an example.
 pub fn window(title: &str) -> WindowPlugin {
     WindowPlugin {

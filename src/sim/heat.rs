@@ -212,21 +212,36 @@ pub fn paper_heat_step(
         h,
         &mut workspace.delta,
     );
-    if params.proximity_radius > 0.0 && state.iter().any(|s| s.is_ignited()) {
-        workspace
-            .hash
-            .build(position, params.proximity_radius, |j| !state[j].is_burnt());
-        proximity_heat_push(
-            &workspace.hash,
-            position,
-            temperature,
-            state,
-            params,
-            h,
-            &mut workspace.delta,
-        );
-    }
+    add_proximity_heat(position, temperature, state, params, workspace, h);
     apply_heat(temperature, state, &mut workspace.delta);
+}
+
+/// Adds proximity heating to `workspace.delta` (already sized): hashes the unburnt particles
+/// and lets every ignited one heat those within the proximity radius. Nothing to do, and no
+/// hash built, when the radius is zero or nothing burns.
+fn add_proximity_heat(
+    position: &[Vec3],
+    temperature: &[f32],
+    state: &[BurnState],
+    params: &HeatParams,
+    workspace: &mut HeatWorkspace,
+    h: f32,
+) {
+    if params.proximity_radius <= 0.0 || !state.iter().any(|s| s.is_ignited()) {
+        return;
+    }
+    workspace
+        .hash
+        .build(position, params.proximity_radius, |j| !state[j].is_burnt());
+    proximity_heat_push(
+        &workspace.hash,
+        position,
+        temperature,
+        state,
+        params,
+        h,
+        &mut workspace.delta,
+    );
 }
 
 /// Proximity heating alone, applied at once: what the physical model adds for folds and
@@ -244,18 +259,7 @@ pub fn proximity_heat_step(
     }
     workspace.delta.clear();
     workspace.delta.resize(temperature.len(), 0.0);
-    workspace
-        .hash
-        .build(position, params.proximity_radius, |j| !state[j].is_burnt());
-    proximity_heat_push(
-        &workspace.hash,
-        position,
-        temperature,
-        state,
-        params,
-        h,
-        &mut workspace.delta,
-    );
+    add_proximity_heat(position, temperature, state, params, workspace, h);
     apply_heat(temperature, state, &mut workspace.delta);
 }
 
