@@ -351,3 +351,61 @@ fn a_piece_cut_loose_by_burning_is_reported_once() {
     assert!(!seen.is_empty(), "no piece reported");
     assert!(seen[0] <= 60 && seen[0] >= 40, "{seen:?}");
 }
+
+/// Meshes as importers (glTF) deliver them: vertices duplicated along UV seams, 16-bit
+/// indices, normals. The seam is welded, so the cloth hangs together across it.
+#[cfg(feature = "render")]
+#[test]
+fn an_imported_style_mesh_with_seams_and_u16_indices_is_welded() {
+    use bevy::asset::RenderAssetUsages;
+    use bevy::mesh::{Indices, PrimitiveTopology};
+    use bevy_burning_cloth::render::flammable::mesh_cloth_builder;
+    // Two 2 x 2-vertex quads side by side, each with its own copy of the shared middle edge
+    // (a UV seam): 8 vertices, 4 triangles, 6 distinct positions.
+    let positions: Vec<[f32; 3]> = vec![
+        [0.0, 0.0, 0.0],
+        [0.5, 0.0, 0.0],
+        [0.0, -0.5, 0.0],
+        [0.5, -0.5, 0.0],
+        [0.5, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.5, -0.5, 0.0],
+        [1.0, -0.5, 0.0],
+    ];
+    let uvs: Vec<[f32; 2]> = vec![
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [0.0, 1.0],
+        [1.0, 1.0],
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [0.0, 1.0],
+        [1.0, 1.0],
+    ];
+    let mesh = Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::default(),
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, vec![[0.0f32, 0.0, 1.0]; 8])
+    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
+    .with_inserted_indices(Indices::U16(vec![0, 2, 1, 1, 2, 3, 4, 6, 5, 5, 6, 7]));
+    let builder = mesh_cloth_builder(&mesh, MeshPins::Above(-0.01)).unwrap();
+    let parts = builder
+        .build(&BurnMaterial::CLOTH, bevy::math::Affine3A::IDENTITY)
+        .unwrap();
+    assert_eq!(
+        parts.particles.len(),
+        6,
+        "the seam's copies are one particle each"
+    );
+    assert_eq!(parts.topology.triangles.len(), 4);
+    // Edges: 3 horizontal... a 3 x 2 grid of vertices with two diagonals: 7 + 2 = 9 edges,
+    // of which the 3 shared between two triangles (two diagonals and the seam) bend.
+    let count = |kind| parts.springs.kind.iter().filter(|k| **k == kind).count();
+    use bevy_burning_cloth::sim::SpringKind;
+    assert_eq!(count(SpringKind::Structural), 9);
+    assert_eq!(count(SpringKind::Bend), 3);
+    let pinned = (0..6).filter(|&i| parts.particles.is_pinned(i)).count();
+    assert_eq!(pinned, 3, "the top row, seam included");
+}

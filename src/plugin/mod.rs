@@ -195,8 +195,10 @@ impl Plugin for ClothSimulationPlugin {
         .add_systems(
             PostUpdate,
             (
-                systems::build_cloths.run_if(any_with_component::<sim::ClothBuilder>),
-                systems::build_mesh_cloths.run_if(any_with_component::<sim::MeshClothBuilder>),
+                systems::build_cloths::<sim::ClothBuilder>
+                    .run_if(any_with_component::<sim::ClothBuilder>),
+                systems::build_cloths::<sim::MeshClothBuilder>
+                    .run_if(any_with_component::<sim::MeshClothBuilder>),
             )
                 .in_set(ClothBuildSystems)
                 .after(TransformSystems::Propagate),

@@ -19,46 +19,55 @@ use crate::sim::integrate::drive_pins;
 use crate::sim::{BurnMaterial, BurnState, ClothBuilder, MeshClothBuilder};
 use bevy::prelude::*;
 
-/// Builds the simulation components of every new or changed [`ClothBuilder`].
-pub(crate) fn build_cloths(
-    mut commands: Commands,
-    builders: Query<
-        (
-            Entity,
-            &ClothBuilder,
-            Option<&BurnMaterial>,
-            Option<&ClothSolver>,
-            &GlobalTransform,
-            Option<&PendingIgnitions>,
-        ),
-        Changed<ClothBuilder>,
-    >,
-) {
-    for (entity, builder, material, solver, transform, pending) in &builders {
-        let material = material.copied().unwrap_or_default();
-        let parts = builder.build(&material, transform.affine());
-        insert_cloth(&mut commands, entity, parts, material, solver, pending);
+/// A component that describes a cloth to build: [`ClothBuilder`] (grids) and
+/// [`MeshClothBuilder`] (triangle meshes).
+pub(crate) trait ClothDescription: Component {
+    /// Builds the cloth placed by `transform`.
+    fn build_parts(
+        &self,
+        material: &BurnMaterial,
+        transform: bevy::math::Affine3A,
+    ) -> Result<crate::sim::ClothParts, crate::sim::ClothError>;
+}
+
+impl ClothDescription for ClothBuilder {
+    fn build_parts(
+        &self,
+        material: &BurnMaterial,
+        transform: bevy::math::Affine3A,
+    ) -> Result<crate::sim::ClothParts, crate::sim::ClothError> {
+        self.build(material, transform)
     }
 }
 
-/// Builds the simulation components of every new or changed [`MeshClothBuilder`].
-pub(crate) fn build_mesh_cloths(
+impl ClothDescription for MeshClothBuilder {
+    fn build_parts(
+        &self,
+        material: &BurnMaterial,
+        transform: bevy::math::Affine3A,
+    ) -> Result<crate::sim::ClothParts, crate::sim::ClothError> {
+        self.build(material, transform)
+    }
+}
+
+/// Builds the simulation components of every new or changed cloth description `D`.
+pub(crate) fn build_cloths<D: ClothDescription>(
     mut commands: Commands,
     builders: Query<
         (
             Entity,
-            &MeshClothBuilder,
+            &D,
             Option<&BurnMaterial>,
             Option<&ClothSolver>,
             &GlobalTransform,
             Option<&PendingIgnitions>,
         ),
-        Changed<MeshClothBuilder>,
+        Changed<D>,
     >,
 ) {
     for (entity, builder, material, solver, transform, pending) in &builders {
         let material = material.copied().unwrap_or_default();
-        let parts = builder.build(&material, transform.affine());
+        let parts = builder.build_parts(&material, transform.affine());
         insert_cloth(&mut commands, entity, parts, material, solver, pending);
     }
 }

@@ -169,11 +169,7 @@ fn clamp_or(value: f32, range: &RangeInclusive<f32>, previous: f32) -> f32 {
     }
 }
 
-fn clamp_vec(
-    value: &mut bevy::math::Vec3,
-    range: &RangeInclusive<f32>,
-    previous: bevy::math::Vec3,
-) {
+fn clamp_vec(value: &mut glam::Vec3, range: &RangeInclusive<f32>, previous: glam::Vec3) {
     for axis in 0..3 {
         value[axis] = clamp_or(value[axis], range, previous[axis]);
     }
