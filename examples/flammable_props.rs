@@ -1,6 +1,7 @@
-//! A corner of a room full of things that burn: a banner made from an ordinary mesh
-//! (`Flammable`), a curtain and a flag (grid cloths) hung close together, a torch you carry
-//! and fireballs you throw. Fire spreads from one to the next.
+//! A corner of a room full of things that burn: a swallowtail banner loaded from a glTF file
+//! (`Flammable` on the scene root), a curtain and a flag (grid cloths) hung close together, a
+//! paper poster made from a Bevy primitive mesh pinned at two corners by a rule of its own, a
+//! torch you carry and fireballs you throw. Fire spreads from one to the next.
 //!
 //! Controls: the torch follows the mouse across the wall; `F` throws a fireball from the
 //! camera at the pointer; `E` douses everything within 0.4 m of the torch; `R` resets;
@@ -19,6 +20,10 @@ use bevy_burning_cloth::prelude::*;
 
 /// The plane the torch moves in: just in front of the hangings.
 const TORCH_Z: f32 = 0.07;
+/// A fireball bursts when it comes this close to a cloth particle, m.
+const FIREBALL_HIT: f32 = 0.08;
+/// How long a burst fireball keeps heating where it hit, s.
+const FIREBALL_BURST_SECONDS: f32 = 0.8;
 
 fn main() -> AppExit {
     let checking = common::CheckRun::from_env().is_some();
@@ -37,19 +42,15 @@ fn main() -> AppExit {
         }))
         .init_resource::<Burning>()
         .add_observer(
-            |e: On<ClothIgnited>, names: Query<&Name>, mut burning: ResMut<Burning>| {
-                let name = names
-                    .get(e.entity)
-                    .map_or("?".to_owned(), |n| n.to_string());
+            |e: On<ClothIgnited>, props: PropNames, mut burning: ResMut<Burning>| {
+                let name = props.of(e.entity);
                 info!("{name} caught fire");
                 burning.0.push(name);
             },
         )
         .add_observer(
-            |e: On<ClothBurntOut>, names: Query<&Name>, mut burning: ResMut<Burning>| {
-                let name = names
-                    .get(e.entity)
-                    .map_or("?".to_owned(), |n| n.to_string());
+            |e: On<ClothBurntOut>, props: PropNames, mut burning: ResMut<Burning>| {
+                let name = props.of(e.entity);
                 info!("{name} burnt out ({:.0} % gone)", 100.0 * e.burnt_fraction);
                 burning.0.retain(|n| *n != name);
             },
@@ -90,6 +91,23 @@ struct BurningList;
 #[derive(Resource, Default)]
 struct Burning(Vec<String>);
 
+/// The name of the prop a cloth belongs to: its own `Name`, or (for a mesh a glTF scene
+/// spawned) the name of the `Prop` above it.
+#[derive(bevy::ecs::system::SystemParam)]
+struct PropNames<'w, 's> {
+    props: Query<'w, 's, &'static Name, With<Prop>>,
+    parents: Query<'w, 's, &'static ChildOf>,
+}
+
+impl PropNames<'_, '_> {
+    fn of(&self, cloth: Entity) -> String {
+        std::iter::once(cloth)
+            .chain(self.parents.iter_ancestors(cloth))
+            .find_map(|entity| self.props.get(entity).ok())
+            .map_or("?".to_owned(), |name| name.to_string())
+    }
+}
+
 fn spawn_room(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
@@ -102,9 +120,9 @@ fn spawn_room(
     });
     // The banner's rod and the flag's pole.
     commands.spawn((
-        Mesh3d(meshes.add(Cylinder::new(0.012, 0.75))),
+        Mesh3d(meshes.add(Cylinder::new(0.012, 0.62))),
         MeshMaterial3d(wood.clone()),
-        Transform::from_xyz(-0.9, 2.01, 0.0)
+        Transform::from_xyz(-0.88, 2.01, 0.0)
             .with_rotation(Quat::from_rotation_z(std::f32::consts::FRAC_PI_2)),
     ));
     commands.spawn((
@@ -123,29 +141,20 @@ fn spawn_room(
 
 fn spawn_props(
     mut commands: Commands,
+    assets: Res<AssetServer>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
-    // A banner from an ordinary Bevy mesh: a subdivided plane, pinned along its top edge. Its
-    // own StandardMaterial becomes the base of the burning look.
+    // A banner from a glTF file. `Flammable` on the scene root is handed down to the mesh the
+    // scene spawns; `pinned_top` pins its top edge without knowing the file's coordinates. Its
+    // glTF material becomes the base of the burning look.
     commands.spawn((
         Prop,
         Name::new("banner"),
-        Flammable::pinned_above(0.49),
-        Mesh3d(
-            meshes.add(
-                Plane3d::new(Vec3::Z, Vec2::new(0.3, 0.5))
-                    .mesh()
-                    .subdivisions(14),
-            ),
-        ),
-        MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::srgb(0.12, 0.32, 0.2),
-            perceptual_roughness: 0.8,
-            ..default()
-        })),
+        WorldAssetRoot(assets.load(GltfAssetLabel::Scene(0).from_asset("models/banner.gltf"))),
+        Flammable::pinned_top(0.005),
         BurnMaterial::CLOTH,
-        Transform::from_xyz(-0.9, 1.5, 0.0),
+        Transform::from_xyz(-0.88, 1.6, 0.0),
     ));
     // A cotton curtain just behind, overlapping the banner's edge by a few centimetres.
     commands.spawn((
@@ -168,6 +177,30 @@ fn spawn_props(
         flag,
         BurnMaterial::SILK,
         Transform::from_xyz(0.5 * (columns - 1) as f32 * 0.04 + 0.02, 1.9, -0.02),
+    ));
+    // A paper poster from a Bevy primitive mesh, tacked to the wall by its two top corners
+    // (a pin rule of the game's own); it is gone for good once it has burnt away.
+    commands.spawn((
+        Prop,
+        Name::new("poster"),
+        Mesh3d(
+            meshes.add(
+                Plane3d::new(Vec3::Z, Vec2::new(0.16, 0.22))
+                    .mesh()
+                    .subdivisions(10),
+            ),
+        ),
+        MeshMaterial3d(materials.add(StandardMaterial {
+            base_color: Color::srgb(0.85, 0.78, 0.6),
+            perceptual_roughness: 0.95,
+            ..default()
+        })),
+        Flammable {
+            pins: MeshPins::custom(|_, p| p.y > 0.21 && p.x.abs() > 0.15),
+        },
+        BurnMaterial::PAPER,
+        DespawnWhenBurntAway,
+        Transform::from_xyz(-1.55, 1.45, -0.04),
     ));
 }
 
@@ -250,7 +283,7 @@ fn move_torch(
 fn script_torch(time: Res<Time>, mut torches: Query<&mut Transform, With<Torch>>) {
     let t = time.elapsed_secs();
     let at = if t < 2.0 {
-        Vec3::new(-0.75, 1.1, TORCH_Z)
+        Vec3::new(-0.68, 1.3, TORCH_Z)
     } else {
         Vec3::new(-0.2, 0.4, TORCH_Z)
     };
@@ -292,16 +325,34 @@ fn throw_fireball(
     ));
 }
 
+/// Fireballs fly straight; one that reaches a cloth (or the floor) bursts there: it stops and
+/// keeps heating what it touches for a moment, then dies out.
 fn fly_fireballs(
     time: Res<Time>,
     mut commands: Commands,
-    mut fireballs: Query<(Entity, &mut Fireball, &mut Transform)>,
+    mut fireballs: Query<(Entity, &mut Fireball, &mut Transform, &mut HeatSource)>,
+    cloths: Query<&ClothParticles>,
 ) {
     let dt = time.delta_secs();
-    for (entity, mut fireball, mut transform) in &mut fireballs {
+    for (entity, mut fireball, mut transform, mut heat) in &mut fireballs {
         fireball.age += dt;
-        transform.translation += fireball.velocity * dt;
-        // It burns out after three seconds or when it has passed the wall.
+        if fireball.velocity != Vec3::ZERO {
+            transform.translation += fireball.velocity * dt;
+            let at = transform.translation;
+            let hit_cloth =
+                cloths.iter().any(|cloth| {
+                    cloth.position.iter().zip(&cloth.state).any(|(p, s)| {
+                        !s.is_burnt() && p.distance_squared(at) < FIREBALL_HIT.powi(2)
+                    })
+                });
+            if hit_cloth || at.y < 0.05 {
+                fireball.velocity = Vec3::ZERO;
+                fireball.age = 3.0 - FIREBALL_BURST_SECONDS;
+                heat.radius *= 1.5;
+                transform.scale = Vec3::splat(1.6);
+            }
+        }
+        // It burns out three seconds after it was thrown, or after its burst.
         if fireball.age > 3.0 || transform.translation.z < -1.0 {
             commands.entity(entity).despawn();
         }
@@ -329,6 +380,7 @@ fn reset(
     mut commands: Commands,
     props: Query<Entity, With<Prop>>,
     mut burning: ResMut<Burning>,
+    assets: Res<AssetServer>,
     meshes: ResMut<Assets<Mesh>>,
     materials: ResMut<Assets<StandardMaterial>>,
 ) {
@@ -339,7 +391,7 @@ fn reset(
         commands.entity(entity).despawn();
     }
     burning.0.clear();
-    spawn_props(commands, meshes, materials);
+    spawn_props(commands, assets, meshes, materials);
 }
 
 fn show_burning(burning: Res<Burning>, mut texts: Query<&mut Text, With<BurningList>>) {

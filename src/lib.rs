@@ -61,8 +61,8 @@ pub mod prelude {
         BurningClothPlugins, BurningClothSystems, ClothBuildSystems, ClothBurntOut, ClothCollider,
         ClothEnvironment, ClothIgnited, ClothInstability, ClothParticles, ClothParticlesBurnt,
         ClothPieceDetached, ClothSimulationControl, ClothSimulationPlugin, ClothSolver,
-        ClothSprings, ClothStatus, ClothStepTiming, ClothSubstepSystems, ClothTopology, Extinguish,
-        FireSpread, HeatSource, Ignite, IgniteAt,
+        ClothSprings, ClothStatus, ClothStepTiming, ClothSubstepSystems, ClothTopology,
+        DespawnWhenBurntAway, Extinguish, FireSpread, HeatSource, Ignite, IgniteAt,
     };
     #[cfg(feature = "render")]
     pub use crate::render::{ClothRenderPlugin, Flammable};

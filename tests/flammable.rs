@@ -14,6 +14,23 @@ fn app() -> App {
     app
 }
 
+/// An app that loads meshes, for `Flammable`.
+#[cfg(feature = "render")]
+fn mesh_app() -> App {
+    let mut app = App::new();
+    app.add_plugins((
+        MinimalPlugins,
+        AssetPlugin::default(),
+        TransformPlugin,
+        BurningClothPlugins::default(),
+    ))
+    .init_asset::<Mesh>()
+    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_micros(
+        15_625,
+    )));
+    app
+}
+
 /// A 12 x 12 silk square, 3 cm spacing, pinned along its top edge at `origin`.
 fn spawn_square(app: &mut App, origin: Vec3) -> Entity {
     app.world_mut()
@@ -239,16 +256,7 @@ fn burning_away_reports_how_many_particles_and_where() {
 #[test]
 fn a_flammable_plane_mesh_becomes_a_cloth_and_burns() {
     use bevy_burning_cloth::sim::SpringKind;
-    let mut app = App::new();
-    app.add_plugins((
-        MinimalPlugins,
-        AssetPlugin::default(),
-        BurningClothPlugins::default(),
-    ))
-    .init_asset::<Mesh>()
-    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_micros(
-        15_625,
-    )));
+    let mut app = mesh_app();
     // Plane3d facing +z, 1 m x 1 m, 4 subdivisions: 6 x 6 vertices, 5 x 5 quads.
     let mesh = Plane3d::new(Vec3::Z, Vec2::splat(0.5))
         .mesh()
@@ -298,13 +306,7 @@ fn a_flammable_plane_mesh_becomes_a_cloth_and_burns() {
 #[cfg(feature = "render")]
 #[test]
 fn a_mesh_that_cannot_burn_is_left_alone() {
-    let mut app = App::new();
-    app.add_plugins((
-        MinimalPlugins,
-        AssetPlugin::default(),
-        BurningClothPlugins::default(),
-    ))
-    .init_asset::<Mesh>();
+    let mut app = mesh_app();
     let lines = Mesh::new(
         bevy::mesh::PrimitiveTopology::LineList,
         bevy::asset::RenderAssetUsages::default(),
@@ -408,4 +410,156 @@ fn an_imported_style_mesh_with_seams_and_u16_indices_is_welded() {
     assert_eq!(count(SpringKind::Bend), 3);
     let pinned = (0..6).filter(|&i| parts.particles.is_pinned(i)).count();
     assert_eq!(pinned, 3, "the top row, seam included");
+}
+
+/// `Flammable` on a scene root reaches the meshes a scene spawns under it later (as a glTF
+/// scene does: root, node with its own transform, mesh entity), with the root's material,
+/// and pins each mesh's top edge in that mesh's own frame; meshes elsewhere stay plain.
+#[cfg(feature = "render")]
+#[test]
+fn flammable_on_a_scene_root_reaches_meshes_spawned_under_it() {
+    let mut app = mesh_app();
+    let banner_mesh = Plane3d::new(Vec3::Z, Vec2::new(0.25, 0.4))
+        .mesh()
+        .subdivisions(6)
+        .build();
+    let handle = app
+        .world_mut()
+        .resource_mut::<Assets<Mesh>>()
+        .add(banner_mesh);
+    let root = app
+        .world_mut()
+        .spawn((
+            Flammable::pinned_top(0.01),
+            BurnMaterial::SILK,
+            Transform::from_xyz(1.0, 0.5, 0.0),
+        ))
+        .id();
+    // A plain mesh elsewhere, not under the root.
+    let plain = app
+        .world_mut()
+        .spawn((Mesh3d(handle.clone()), Transform::default()))
+        .id();
+    app.update();
+    // The "scene" arrives a frame later: a node 1.2 m up, turned 90° about y, holding the
+    // mesh.
+    let node = app
+        .world_mut()
+        .spawn((
+            ChildOf(root),
+            Transform::from_xyz(0.0, 1.2, 0.0)
+                .with_rotation(Quat::from_rotation_y(std::f32::consts::FRAC_PI_2)),
+        ))
+        .id();
+    let mesh = app
+        .world_mut()
+        .spawn((ChildOf(node), Mesh3d(handle), Transform::default()))
+        .id();
+    app.update();
+    app.update();
+    let particles = app
+        .world()
+        .get::<ClothParticles>(mesh)
+        .expect("the scene's mesh became a cloth");
+    assert_eq!(particles.len(), 8 * 8);
+    assert_eq!(
+        *app.world().get::<BurnMaterial>(mesh).unwrap(),
+        BurnMaterial::SILK
+    );
+    let pinned: Vec<Vec3> = (0..particles.len())
+        .filter(|&i| particles.is_pinned(i))
+        .map(|i| particles.position[i])
+        .collect();
+    assert_eq!(pinned.len(), 8, "the top row of the mesh");
+    for p in &pinned {
+        // World: root (1, 0.5, 0) + node (0, 1.2, 0) + the mesh's top edge at local y 0.4;
+        // the node's turn lays the banner's width along world z.
+        assert!((p.y - 2.1).abs() < 1e-4, "pin at {p}");
+        assert!((p.x - 1.0).abs() < 1e-4, "pin at {p}");
+        assert!(p.z.abs() <= 0.25 + 1e-4, "pin at {p}");
+    }
+    assert!(app.world().get::<ClothParticles>(plain).is_none());
+    assert!(app.world().get::<Flammable>(plain).is_none());
+    assert!(app.world().get::<ClothParticles>(root).is_none());
+
+    // Made flammable after its meshes exist: handed down at once.
+    let late_root = app.world_mut().spawn(Transform::default()).id();
+    let late_mesh = {
+        let handle = app
+            .world()
+            .get::<Mesh3d>(mesh)
+            .map(|m| m.0.clone())
+            .unwrap();
+        app.world_mut()
+            .spawn((ChildOf(late_root), Mesh3d(handle), Transform::default()))
+            .id()
+    };
+    app.update();
+    assert!(app.world().get::<ClothParticles>(late_mesh).is_none());
+    app.world_mut()
+        .entity_mut(late_root)
+        .insert(Flammable::default());
+    app.update();
+    app.update();
+    assert!(app.world().get::<ClothParticles>(late_mesh).is_some());
+}
+
+/// A cloth marked `DespawnWhenBurntAway` is despawned once it has burnt away completely and
+/// its smoke has died; one whose fire went out with part of it left stays.
+#[test]
+fn a_cloth_that_burnt_away_is_despawned_and_one_partly_burnt_stays() {
+    let mut app = app();
+    let whole = app
+        .world_mut()
+        .spawn((
+            ClothBuilder::grid(8, 8, 0.03).pin_top_edge(),
+            BurnMaterial::PAPER,
+            Transform::from_xyz(0.0, 2.0, 0.0),
+            DespawnWhenBurntAway,
+        ))
+        .id();
+    let partly = app
+        .world_mut()
+        .spawn((
+            ClothBuilder::grid(8, 8, 0.03).pin_top_edge(),
+            BurnMaterial::PAPER,
+            Transform::from_xyz(2.0, 2.0, 0.0),
+            DespawnWhenBurntAway,
+        ))
+        .id();
+    app.update();
+    for (cloth, rows) in [(whole, 0..8), (partly, 6..8)] {
+        let mut particles = app.world_mut().get_mut::<ClothParticles>(cloth).unwrap();
+        for i in rows.start * 8..rows.end * 8 {
+            particles.temperature[i] = 5_000.0;
+        }
+    }
+    // The partly burnt one is cooled above its lowest rows every step, so its fire stops.
+    let step = |app: &mut App| {
+        let mut particles = app.world_mut().get_mut::<ClothParticles>(partly).unwrap();
+        for i in 0..5 * 8 {
+            particles.temperature[i] = 20.0;
+        }
+        app.update();
+    };
+    let mut steps = 0;
+    while app.world().get_entity(whole).is_ok() {
+        step(&mut app);
+        steps += 1;
+        assert!(steps < 64 * 30, "the burnt-away cloth was never despawned");
+        if let Some(status) = app.world().get::<ClothStatus>(whole) {
+            assert!(
+                status.burnt > 0 || steps < 64,
+                "despawn must wait for the burn"
+            );
+        }
+    }
+    for _ in 0..64 * 2 {
+        step(&mut app);
+    }
+    let status = app
+        .world()
+        .get::<ClothStatus>(partly)
+        .expect("the partly burnt cloth stays");
+    assert!(status.burnt > 0 && status.live_triangles > 0);
 }

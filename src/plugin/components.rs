@@ -85,6 +85,13 @@ impl ClothScratch {
     }
 }
 
+/// Despawns the cloth entity (and its children) once nothing of it is left: no triangle is
+/// drawn, no particle is burning, and (with the `smoke` feature) its last smoke particle has
+/// died. A cloth whose fire goes out with part of it left stays. Put it on the cloth entity
+/// (with the `ClothBuilder`, the `MeshClothBuilder`, or the flammable mesh).
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DespawnWhenBurntAway;
+
 /// Live numbers about a cloth, updated every fixed step, for gameplay and UI.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
 pub struct ClothStatus {

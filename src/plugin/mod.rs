@@ -18,7 +18,7 @@ mod systems;
 
 pub use components::{
     ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
-    ClothTopology,
+    ClothTopology, DespawnWhenBurntAway,
 };
 #[cfg(feature = "smoke")]
 pub(crate) use control::consume_pending_step;
@@ -202,6 +202,10 @@ impl Plugin for ClothSimulationPlugin {
             )
                 .in_set(ClothBuildSystems)
                 .after(TransformSystems::Propagate),
+        )
+        .add_systems(
+            PostUpdate,
+            systems::despawn_burnt_away.run_if(any_with_component::<DespawnWhenBurntAway>),
         );
     }
 }

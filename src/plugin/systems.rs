@@ -3,7 +3,7 @@
 
 use super::components::{
     ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
-    ClothTopology, PendingIgnitions,
+    ClothTopology, DespawnWhenBurntAway, PendingIgnitions,
 };
 use super::events::{
     ClothBurntOut, ClothIgnited, ClothInstability, ClothParticlesBurnt, ClothPieceDetached,
@@ -307,6 +307,26 @@ pub(crate) fn combust(
             });
         }
         status.burning = burning;
+    }
+}
+
+/// Despawns the cloths marked [`DespawnWhenBurntAway`] of which nothing is left.
+pub(crate) fn despawn_burnt_away(
+    mut commands: Commands,
+    cloths: Query<(Entity, &ClothStatus), With<DespawnWhenBurntAway>>,
+    #[cfg(feature = "smoke")] emitters: Query<&crate::smoke::SmokeEmitter>,
+) {
+    for (entity, status) in &cloths {
+        let gone = status.live_triangles == 0 && status.burnt > 0 && !status.burning;
+        #[cfg(feature = "smoke")]
+        let gone = gone
+            && emitters
+                .get(entity)
+                .ok()
+                .is_none_or(|e| e.pool().is_empty());
+        if gone {
+            commands.entity(entity).despawn();
+        }
     }
 }
 

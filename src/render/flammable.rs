@@ -1,7 +1,7 @@
 //! [`Flammable`]: any entity with a `Mesh3d` becomes a burning cloth.
 
-use crate::plugin::ClothParticles;
-use crate::sim::{MeshClothBuilder, MeshPins};
+use crate::plugin::{ClothParticles, ClothSolver};
+use crate::sim::{BurnMaterial, MeshClothBuilder, MeshPins};
 use bevy::mesh::{PrimitiveTopology, VertexAttributeValues};
 use bevy::prelude::*;
 
@@ -10,9 +10,15 @@ use bevy::prelude::*;
 /// and its triangles the cloth; the entity's [`BurnMaterial`](crate::sim::BurnMaterial)
 /// (default cloth) sets mass and burning, its `Transform` places it, and `pins` holds it up.
 /// The entity's `MeshMaterial3d<StandardMaterial>`, if any, becomes the base of the burning
-/// look (its colour and texture are kept). Works for Bevy's primitive meshes and for meshes
-/// from glTF (put `Flammable` on the entity that holds the `Mesh3d`). A mesh that is not a
-/// triangle list, has no positions, or cannot become a cloth is logged and left as it is.
+/// look (its colour and texture are kept). A mesh that is not a triangle list, has no
+/// positions, or cannot become a cloth is logged and left as it is.
+///
+/// On an entity without a `Mesh3d` (a glTF `SceneRoot`, or any parent), `Flammable` is handed
+/// down, with the entity's `BurnMaterial` and `ClothSolver`, to every descendant that has a
+/// `Mesh3d`, including those a scene spawns later: each becomes a cloth of its own. Pins are
+/// read in each mesh's local space; [`MeshPins::Top`] pins a mesh's top edge without knowing
+/// its coordinates. To burn only part of a scene, put `Flammable` on the mesh entities you
+/// want instead (found, say, by `Name` when the scene is ready).
 #[derive(Component, Clone, Debug, Default, PartialEq)]
 pub struct Flammable {
     /// Which vertices are pinned (local space of the mesh).
@@ -24,6 +30,73 @@ impl Flammable {
     pub fn pinned_above(y: f32) -> Self {
         Self {
             pins: MeshPins::Above(y),
+        }
+    }
+
+    /// Pins the vertices within `within` (m) of the mesh's highest point: the top edge of a
+    /// mesh whose coordinates you do not know.
+    pub fn pinned_top(within: f32) -> Self {
+        Self {
+            pins: MeshPins::Top { within },
+        }
+    }
+}
+
+/// What a parent's [`Flammable`] hands down to its meshes.
+type Inherited = (Flammable, Option<BurnMaterial>, Option<ClothSolver>);
+
+/// Hands [`Flammable`] on entities without a `Mesh3d` down to their descendant meshes: to new
+/// meshes under such an entity (a scene that has just spawned) and to the meshes under an
+/// entity that has just been made flammable. Work only where something was added.
+pub(crate) fn hand_flammable_down(
+    mut commands: Commands,
+    new_meshes: Query<Entity, (Added<Mesh3d>, Without<Flammable>, Without<ClothParticles>)>,
+    new_parents: Query<Entity, (Added<Flammable>, Without<Mesh3d>)>,
+    flammables: Query<(
+        &Flammable,
+        Has<Mesh3d>,
+        Option<&BurnMaterial>,
+        Option<&ClothSolver>,
+    )>,
+    ancestors: Query<&ChildOf>,
+    children: Query<&Children>,
+    plain_meshes: Query<(), (With<Mesh3d>, Without<Flammable>, Without<ClothParticles>)>,
+) {
+    // What a flammable entity without a mesh hands down (a flammable mesh hands nothing down:
+    // it is a cloth itself).
+    let inherited = |parent: Entity| -> Option<Inherited> {
+        let (flammable, has_mesh, material, solver) = flammables.get(parent).ok()?;
+        (!has_mesh).then(|| (flammable.clone(), material.copied(), solver.copied()))
+    };
+    let mut hand = |mesh: Entity, (flammable, material, solver): Inherited| {
+        let mut entity = commands.entity(mesh);
+        entity.insert(flammable);
+        // The mesh's own material and solver, if it has them, win.
+        if let Some(material) = material {
+            entity.insert_if_new(material);
+        }
+        if let Some(solver) = solver {
+            entity.insert_if_new(solver);
+        }
+    };
+    for mesh in &new_meshes {
+        // The nearest flammable ancestor decides.
+        if let Some(found) = ancestors
+            .iter_ancestors(mesh)
+            .find(|&ancestor| flammables.contains(ancestor))
+            .and_then(inherited)
+        {
+            hand(mesh, found);
+        }
+    }
+    for parent in &new_parents {
+        let Some(found) = inherited(parent) else {
+            continue;
+        };
+        for mesh in children.iter_descendants(parent) {
+            if plain_meshes.contains(mesh) {
+                hand(mesh, found.clone());
+            }
         }
     }
 }

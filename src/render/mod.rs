@@ -44,7 +44,8 @@ impl Plugin for ClothRenderPlugin {
             .add_observer(ignite_on_click)
             .add_systems(
                 PostUpdate,
-                flammable::make_flammable
+                (flammable::hand_flammable_down, flammable::make_flammable)
+                    .chain()
                     .before(crate::plugin::ClothBuildSystems)
                     .run_if(resource_exists::<Assets<Mesh>>)
                     .run_if(any_with_component::<Flammable>),

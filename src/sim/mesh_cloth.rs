@@ -13,8 +13,10 @@ use super::particles::{BurnState, Particles};
 use super::springs::{SpringKind, Springs};
 use super::topology::{Topology, cull_triangles};
 use glam::{Affine3A, Vec2, Vec3};
+use std::sync::Arc;
 
-/// Which vertices of a mesh are pinned.
+/// Which vertices of a mesh are pinned. Positions are in the mesh's local space (before the
+/// entity's transform), as the mesh asset stores them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum MeshPins {
     /// None: the whole mesh falls.
@@ -22,6 +24,12 @@ pub enum MeshPins {
     None,
     /// Vertices whose local `y` is at least this (e.g. the top edge of a banner).
     Above(f32),
+    /// Vertices within `within` (m) of the mesh's highest local `y`: the top edge of a mesh
+    /// whose coordinates you do not know (one loaded from glTF).
+    Top {
+        /// Depth of the pinned band below the highest vertex, m.
+        within: f32,
+    },
     /// Vertices whose local position is within `radius` of any of these points.
     Near {
         /// Local points, m.
@@ -29,20 +37,65 @@ pub enum MeshPins {
         /// Reach, m.
         radius: f32,
     },
-    /// Vertices by index into the mesh's vertex list (before welding).
+    /// Vertices by index into the mesh's vertex list (before welding): a vertex group.
     Indices(Vec<u32>),
+    /// Vertices for which your rule returns `true`; see [`MeshPins::custom`].
+    Custom(PinRule),
 }
 
 impl MeshPins {
-    fn pins(&self, index: u32, local: Vec3) -> bool {
+    /// Pins the vertices for which `rule(vertex index, local position)` is `true`, for
+    /// example `MeshPins::custom(|_, p| p.y > 0.4 && p.x.abs() > 0.25)` for two top corners.
+    pub fn custom(rule: impl Fn(u32, Vec3) -> bool + Send + Sync + 'static) -> Self {
+        Self::Custom(PinRule(Arc::new(rule)))
+    }
+
+    /// Which of these local vertex positions are pinned (one flag per vertex; indices past
+    /// the list are ignored).
+    fn pinned_vertices(&self, positions: &[Vec3]) -> Vec<bool> {
+        let top = positions.iter().fold(f32::MIN, |top, p| top.max(p.y));
+        let mut pinned = vec![false; positions.len()];
         match self {
-            Self::None => false,
-            Self::Above(y) => local.y >= *y,
-            Self::Near { points, radius } => points
-                .iter()
-                .any(|p| p.distance_squared(local) <= radius * radius),
-            Self::Indices(indices) => indices.contains(&index),
+            Self::None => {}
+            Self::Indices(indices) => {
+                for &i in indices {
+                    if let Some(flag) = pinned.get_mut(i as usize) {
+                        *flag = true;
+                    }
+                }
+            }
+            _ => {
+                for (index, (flag, &local)) in pinned.iter_mut().zip(positions).enumerate() {
+                    *flag = match self {
+                        Self::Above(y) => local.y >= *y,
+                        Self::Top { within } => local.y >= top - within.max(0.0),
+                        Self::Near { points, radius } => points
+                            .iter()
+                            .any(|p| p.distance_squared(local) <= radius * radius),
+                        Self::Custom(rule) => (rule.0)(index as u32, local),
+                        Self::None | Self::Indices(_) => false,
+                    };
+                }
+            }
         }
+        pinned
+    }
+}
+
+/// A pin rule of your own: `(vertex index, local position) -> pinned`. Two rules are equal
+/// when they are the same closure (the same `Arc`).
+#[derive(Clone)]
+pub struct PinRule(pub Arc<dyn Fn(u32, Vec3) -> bool + Send + Sync>);
+
+impl std::fmt::Debug for PinRule {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("PinRule(..)")
+    }
+}
+
+impl PartialEq for PinRule {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
     }
 }
 
@@ -195,9 +248,10 @@ impl MeshClothBuilder {
         }
         let mut inv_mass: Vec<f32> = mass.iter().map(|m| 1.0 / m).collect();
         let mut welded_pins = vec![false; n];
-        for (v, (&c, &local)) in canonical.iter().zip(&self.positions).enumerate() {
+        let pinned_vertex = self.pins.pinned_vertices(&self.positions);
+        for (&c, &pinned) in canonical.iter().zip(&pinned_vertex) {
             let p = particle_of[c as usize];
-            if p != u32::MAX && self.pins.pins(v as u32, local) {
+            if p != u32::MAX && pinned {
                 welded_pins[p as usize] = true;
             }
         }
@@ -429,5 +483,48 @@ mod tests {
                 .build(&m, Affine3A::from_translation(Vec3::NAN))
                 .is_err()
         );
+    }
+
+    #[test]
+    fn every_pin_rule_pins_the_vertices_it_names() {
+        // plane(4): rows at y = 0, -0.1, -0.2, -0.3; columns at x = 0 .. 0.3.
+        let pinned = |pins: MeshPins| {
+            let parts = plane(4)
+                .with_pins(pins)
+                .build(&BurnMaterial::CLOTH, Affine3A::IDENTITY)
+                .unwrap();
+            // Particles are numbered in the order triangles use them: name each pinned one by
+            // the vertex index its position has in the plane.
+            let mut vertices: Vec<u32> = (0..parts.particles.len())
+                .filter(|&i| parts.particles.is_pinned(i))
+                .map(|i| {
+                    let p = parts.particles.position[i] / 0.1;
+                    (-p.y).round() as u32 * 4 + p.x.round() as u32
+                })
+                .collect();
+            vertices.sort_unstable();
+            vertices
+        };
+        assert_eq!(pinned(MeshPins::None), Vec::<u32>::new());
+        assert_eq!(pinned(MeshPins::Above(-0.05)), vec![0, 1, 2, 3]);
+        // The top band, whatever the mesh's height: the first two rows.
+        assert_eq!(
+            pinned(MeshPins::Top { within: 0.15 }),
+            (0..8).collect::<Vec<_>>()
+        );
+        assert_eq!(
+            pinned(MeshPins::Near {
+                points: vec![Vec3::new(0.3, 0.0, 0.0)],
+                radius: 0.01
+            }),
+            vec![3]
+        );
+        // A vertex group; an index past the vertex list is ignored.
+        assert_eq!(pinned(MeshPins::Indices(vec![15, 0, 99])), vec![0, 15]);
+        // Two top corners by a rule of the game's own.
+        let corners = MeshPins::custom(|_, p| p.y > -0.05 && (p.x < 0.05 || p.x > 0.25));
+        assert_eq!(pinned(corners.clone()), vec![0, 3]);
+        assert_eq!(corners.clone(), corners, "a rule equals itself");
+        assert_ne!(corners, MeshPins::custom(|_, _| true));
     }
 }

@@ -62,7 +62,7 @@ pub use guard::{BlowUpGuard, GuardSettings};
 pub use heat_sources::{HashedHeatSources, WorldHeatSource};
 pub use integrate::Integrator;
 pub use material::{BurnMaterial, MaterialError};
-pub use mesh_cloth::{MeshClothBuilder, MeshPins};
+pub use mesh_cloth::{MeshClothBuilder, MeshPins, PinRule};
 pub use particles::{BurnState, Particles};
 pub use pieces::{DetachedPiece, PieceTracker, Pieces};
 pub use provot::ProvotSettings;
