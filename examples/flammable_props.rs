@@ -7,6 +7,9 @@
 //! camera at the pointer; `E` douses everything within 0.4 m of the torch; `R` resets;
 //! right drag orbits, scroll zooms. A line at the top lists what is burning.
 //!
+//! Unattended (`BURNING_CLOTH_SCREENSHOT`), a script holds the torch to the banner for 2 s and
+//! throws one fireball at the poster at 6 s.
+//!
 //! ```sh
 //! cargo run --example flammable_props
 //! ```
@@ -22,6 +25,8 @@ use bevy_burning_cloth::prelude::*;
 const TORCH_Z: f32 = 0.07;
 /// A fireball bursts when it comes this close to a cloth particle, m.
 const FIREBALL_HIT: f32 = 0.08;
+/// Where the paper poster hangs (its centre).
+const POSTER_AT: Vec3 = Vec3::new(-1.55, 1.45, -0.04);
 /// How long a burst fireball keeps heating where it hit, s.
 const FIREBALL_BURST_SECONDS: f32 = 0.8;
 
@@ -60,7 +65,7 @@ fn main() -> AppExit {
             Update,
             (
                 move_torch.run_if(move || !checking),
-                script_torch.run_if(move || checking),
+                (script_torch, script_fireball).run_if(move || checking),
                 throw_fireball,
                 fly_fireballs,
                 douse,
@@ -200,7 +205,7 @@ fn spawn_props(
         },
         BurnMaterial::PAPER,
         DespawnWhenBurntAway,
-        Transform::from_xyz(-1.55, 1.45, -0.04),
+        Transform::from_translation(POSTER_AT),
     ));
 }
 
@@ -309,12 +314,42 @@ fn throw_fireball(
     let start = camera_transform.translation();
     let target = pointer_on_wall(window, camera, camera_transform)
         .unwrap_or(start + camera_transform.forward() * 3.0);
+    spawn_fireball(&mut commands, &mut meshes, &mut materials, start, target);
+}
+
+/// In check mode: throw one fireball from the camera at the poster at 6 s.
+fn script_fireball(
+    time: Res<Time>,
+    mut thrown: Local<bool>,
+    mut commands: Commands,
+    cameras: Query<&GlobalTransform, With<Camera>>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    if *thrown || time.elapsed_secs() < 6.0 {
+        return;
+    }
+    let Ok(camera) = cameras.single() else {
+        return;
+    };
+    *thrown = true;
+    let start = camera.translation();
+    spawn_fireball(&mut commands, &mut meshes, &mut materials, start, POSTER_AT);
+}
+
+fn spawn_fireball(
+    commands: &mut Commands,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<StandardMaterial>,
+    start: Vec3,
+    target: Vec3,
+) {
     commands.spawn((
         Fireball {
             velocity: (target - start).normalize_or_zero() * 4.0,
             age: 0.0,
         },
-        HeatSource::new(0.25, 1100.0).with_rate(8.0),
+        HeatSource::new(0.12, 1100.0).with_rate(6.0),
         Mesh3d(meshes.add(Sphere::new(0.06))),
         MeshMaterial3d(materials.add(StandardMaterial {
             base_color: Color::BLACK,
@@ -330,11 +365,11 @@ fn throw_fireball(
 fn fly_fireballs(
     time: Res<Time>,
     mut commands: Commands,
-    mut fireballs: Query<(Entity, &mut Fireball, &mut Transform, &mut HeatSource)>,
+    mut fireballs: Query<(Entity, &mut Fireball, &mut Transform)>,
     cloths: Query<&ClothParticles>,
 ) {
     let dt = time.delta_secs();
-    for (entity, mut fireball, mut transform, mut heat) in &mut fireballs {
+    for (entity, mut fireball, mut transform) in &mut fireballs {
         fireball.age += dt;
         if fireball.velocity != Vec3::ZERO {
             transform.translation += fireball.velocity * dt;
@@ -348,7 +383,6 @@ fn fly_fireballs(
             if hit_cloth || at.y < 0.05 {
                 fireball.velocity = Vec3::ZERO;
                 fireball.age = 3.0 - FIREBALL_BURST_SECONDS;
-                heat.radius *= 1.5;
                 transform.scale = Vec3::splat(1.6);
             }
         }
