@@ -413,8 +413,8 @@ fn an_imported_style_mesh_with_seams_and_u16_indices_is_welded() {
 }
 
 /// `Flammable` on a scene root reaches the meshes a scene spawns under it later (as a glTF
-/// scene does: root, node with its own transform, mesh entity), with the root's material,
-/// and pins each mesh's top edge in that mesh's own frame; meshes elsewhere stay plain.
+/// scene does: root, node with its own transform, mesh entity), with the root's material
+/// and clean-up, and pins each mesh's top edge in that mesh's own frame; meshes elsewhere stay plain.
 #[cfg(feature = "render")]
 #[test]
 fn flammable_on_a_scene_root_reaches_meshes_spawned_under_it() {
@@ -432,6 +432,7 @@ fn flammable_on_a_scene_root_reaches_meshes_spawned_under_it() {
         .spawn((
             Flammable::pinned_top(0.01),
             BurnMaterial::SILK,
+            DespawnWhenBurntAway,
             Transform::from_xyz(1.0, 0.5, 0.0),
         ))
         .id();
@@ -466,6 +467,7 @@ fn flammable_on_a_scene_root_reaches_meshes_spawned_under_it() {
         *app.world().get::<BurnMaterial>(mesh).unwrap(),
         BurnMaterial::SILK
     );
+    assert!(app.world().get::<DespawnWhenBurntAway>(mesh).is_some());
     let pinned: Vec<Vec3> = (0..particles.len())
         .filter(|&i| particles.is_pinned(i))
         .map(|i| particles.position[i])

@@ -1,21 +1,21 @@
 //! [`Flammable`]: any entity with a `Mesh3d` becomes a burning cloth.
 
-use crate::plugin::{ClothParticles, ClothSolver};
+use crate::plugin::{ClothParticles, ClothSolver, DespawnWhenBurntAway};
 use crate::sim::{BurnMaterial, MeshClothBuilder, MeshPins};
 use bevy::mesh::{PrimitiveTopology, VertexAttributeValues};
 use bevy::prelude::*;
 
 /// Makes the `Mesh3d` on this entity a burning cloth: once the mesh asset has loaded, its
 /// vertices become particles (duplicates at the same position welded), its edges springs,
-/// and its triangles the cloth; the entity's [`BurnMaterial`](crate::sim::BurnMaterial)
-/// (default cloth) sets mass and burning, its `Transform` places it, and `pins` holds it up.
+/// and its triangles the cloth; the entity's [`BurnMaterial`] (default cloth) sets mass and burning, its `Transform` places it, and `pins` holds it up.
 /// The entity's `MeshMaterial3d<StandardMaterial>`, if any, becomes the base of the burning
 /// look (its colour and texture are kept). A mesh that is not a triangle list, has no
 /// positions, or cannot become a cloth is logged and left as it is.
 ///
-/// On an entity without a `Mesh3d` (a glTF `SceneRoot`, or any parent), `Flammable` is handed
-/// down, with the entity's `BurnMaterial` and `ClothSolver`, to every descendant that has a
-/// `Mesh3d`, including those a scene spawns later: each becomes a cloth of its own. Pins are
+/// On an entity without a `Mesh3d` (a glTF scene's `WorldAssetRoot`, Bevy 0.19's name for
+/// `SceneRoot`, or any parent), `Flammable` is handed down, with the entity's `BurnMaterial`,
+/// `ClothSolver` and [`DespawnWhenBurntAway`], to every descendant that has a `Mesh3d`,
+/// including those a scene spawns later: each becomes a cloth of its own. Pins are
 /// read in each mesh's local space; [`MeshPins::Top`] pins a mesh's top edge without knowing
 /// its coordinates. To burn only part of a scene, put `Flammable` on the mesh entities you
 /// want instead (found, say, by `Name` when the scene is ready).
@@ -43,7 +43,7 @@ impl Flammable {
 }
 
 /// What a parent's [`Flammable`] hands down to its meshes.
-type Inherited = (Flammable, Option<BurnMaterial>, Option<ClothSolver>);
+type Inherited = (Flammable, Option<BurnMaterial>, Option<ClothSolver>, bool);
 
 /// Hands [`Flammable`] on entities without a `Mesh3d` down to their descendant meshes: to new
 /// meshes under such an entity (a scene that has just spawned) and to the meshes under an
@@ -57,6 +57,7 @@ pub(crate) fn hand_flammable_down(
         Has<Mesh3d>,
         Option<&BurnMaterial>,
         Option<&ClothSolver>,
+        Has<DespawnWhenBurntAway>,
     )>,
     ancestors: Query<&ChildOf>,
     children: Query<&Children>,
@@ -65,12 +66,22 @@ pub(crate) fn hand_flammable_down(
     // What a flammable entity without a mesh hands down (a flammable mesh hands nothing down:
     // it is a cloth itself).
     let inherited = |parent: Entity| -> Option<Inherited> {
-        let (flammable, has_mesh, material, solver) = flammables.get(parent).ok()?;
-        (!has_mesh).then(|| (flammable.clone(), material.copied(), solver.copied()))
+        let (flammable, has_mesh, material, solver, despawn) = flammables.get(parent).ok()?;
+        (!has_mesh).then(|| {
+            (
+                flammable.clone(),
+                material.copied(),
+                solver.copied(),
+                despawn,
+            )
+        })
     };
-    let mut hand = |mesh: Entity, (flammable, material, solver): Inherited| {
+    let mut hand = |mesh: Entity, (flammable, material, solver, despawn): Inherited| {
         let mut entity = commands.entity(mesh);
         entity.insert(flammable);
+        if despawn {
+            entity.insert(DespawnWhenBurntAway);
+        }
         // The mesh's own material and solver, if it has them, win.
         if let Some(material) = material {
             entity.insert_if_new(material);
