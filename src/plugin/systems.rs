@@ -67,26 +67,27 @@ pub(crate) fn build_cloths<D: ClothDescription>(
 ) {
     for (entity, builder, material, solver, transform, pending) in &builders {
         let material = material.copied().unwrap_or_default();
+        // Check the solver before the (costly) build, so a bad one wastes no work.
+        let solver = solver.copied().unwrap_or_default();
+        if let Err(error) = solver.validate() {
+            error!("cloth {entity} not built: {error}");
+            continue;
+        }
         let parts = builder.build_parts(&material, transform.affine());
         insert_cloth(&mut commands, entity, parts, material, solver, pending);
     }
 }
 
-/// Inserts a built cloth's components (or logs why it was not built), applying ignitions that
-/// waited for it.
+/// Inserts a built cloth's components with its validated solver (or logs why it was not
+/// built), applying ignitions that waited for it.
 fn insert_cloth(
     commands: &mut Commands,
     entity: Entity,
     parts: Result<crate::sim::ClothParts, crate::sim::ClothError>,
     material: BurnMaterial,
-    solver: Option<&ClothSolver>,
+    solver: ClothSolver,
     pending: Option<&PendingIgnitions>,
 ) {
-    let solver = solver.copied().unwrap_or_default();
-    if let Err(error) = solver.validate() {
-        error!("cloth {entity} not built: {error}");
-        return;
-    }
     let parts = match parts {
         Ok(parts) => parts,
         Err(error) => {

@@ -212,13 +212,20 @@ pub fn paper_heat_step(
         h,
         &mut workspace.delta,
     );
-    add_proximity_heat(position, temperature, state, params, workspace, h);
+    if proximity_heat_applies(params, state) {
+        add_proximity_heat(position, temperature, state, params, workspace, h);
+    }
     apply_heat(temperature, state, &mut workspace.delta);
 }
 
+/// Whether proximity heating has anything to do: a reach, and something burning.
+fn proximity_heat_applies(params: &HeatParams, state: &[BurnState]) -> bool {
+    params.proximity_radius > 0.0 && state.iter().any(|s| s.is_ignited())
+}
+
 /// Adds proximity heating to `workspace.delta` (already sized): hashes the unburnt particles
-/// and lets every ignited one heat those within the proximity radius. Nothing to do, and no
-/// hash built, when the radius is zero or nothing burns.
+/// and lets every ignited one heat those within the proximity radius. Callers check
+/// [`proximity_heat_applies`] first, so no hash is built when there is nothing to do.
 fn add_proximity_heat(
     position: &[Vec3],
     temperature: &[f32],
@@ -227,9 +234,6 @@ fn add_proximity_heat(
     workspace: &mut HeatWorkspace,
     h: f32,
 ) {
-    if params.proximity_radius <= 0.0 || !state.iter().any(|s| s.is_ignited()) {
-        return;
-    }
     workspace
         .hash
         .build(position, params.proximity_radius, |j| !state[j].is_burnt());
@@ -254,7 +258,7 @@ pub fn proximity_heat_step(
     workspace: &mut HeatWorkspace,
     h: f32,
 ) {
-    if params.proximity_radius <= 0.0 || !state.iter().any(|s| s.is_ignited()) {
+    if !proximity_heat_applies(params, state) {
         return;
     }
     workspace.delta.clear();

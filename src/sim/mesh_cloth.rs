@@ -53,28 +53,30 @@ impl MeshPins {
     /// Which of these local vertex positions are pinned (one flag per vertex; indices past
     /// the list are ignored).
     fn pinned_vertices(&self, positions: &[Vec3]) -> Vec<bool> {
-        let top = positions.iter().fold(f32::MIN, |top, p| top.max(p.y));
         let mut pinned = vec![false; positions.len()];
+        let mut mark_where = |rule: &dyn Fn(u32, Vec3) -> bool| {
+            for (index, (flag, &local)) in pinned.iter_mut().zip(positions).enumerate() {
+                *flag = rule(index as u32, local);
+            }
+        };
         match self {
             Self::None => {}
+            Self::Above(y) => mark_where(&|_, local| local.y >= *y),
+            Self::Top { within } => {
+                let top = positions.iter().fold(f32::MIN, |top, p| top.max(p.y));
+                mark_where(&|_, local| local.y >= top - within.max(0.0));
+            }
+            Self::Near { points, radius } => mark_where(&|_, local| {
+                points
+                    .iter()
+                    .any(|p| p.distance_squared(local) <= radius * radius)
+            }),
+            Self::Custom(rule) => mark_where(&*rule.0),
             Self::Indices(indices) => {
                 for &i in indices {
                     if let Some(flag) = pinned.get_mut(i as usize) {
                         *flag = true;
                     }
-                }
-            }
-            _ => {
-                for (index, (flag, &local)) in pinned.iter_mut().zip(positions).enumerate() {
-                    *flag = match self {
-                        Self::Above(y) => local.y >= *y,
-                        Self::Top { within } => local.y >= top - within.max(0.0),
-                        Self::Near { points, radius } => points
-                            .iter()
-                            .any(|p| p.distance_squared(local) <= radius * radius),
-                        Self::Custom(rule) => (rule.0)(index as u32, local),
-                        Self::None | Self::Indices(_) => false,
-                    };
                 }
             }
         }
