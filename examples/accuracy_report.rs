@@ -3,7 +3,7 @@
 //! work-precision plot per problem (log error against log wall time).
 //!
 //! ```sh
-//! cargo run --example accuracy_report --no-default-features -- [DIR]
+//! cargo run --example accuracy_report --no-default-features --features report -- [DIR]
 //! ```
 //!
 //! `DIR` defaults to `target/report/`. Written there: `accuracy.csv`, `accuracy.md`,

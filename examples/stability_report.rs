@@ -2,7 +2,7 @@
 //! it as Markdown.
 //!
 //! ```sh
-//! cargo run --release --example stability_report --no-default-features [-- OUT_DIR [STEPS]]
+//! cargo run --release --example stability_report --no-default-features --features report [-- OUT_DIR [STEPS]]
 //! ```
 //!
 //! Writes `OUT_DIR/stability.md` (default `target/report/`); 600 steps of 1/60 s by default.

@@ -22,7 +22,8 @@ fn run(size: u32, integrator: Integrator) -> (f64, u32) {
         Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
     )
     .expect("valid cloth");
-    sim.solver.integrator = integrator;
+    sim.update_settings(|s| s.solver.integrator = integrator)
+        .expect("valid integrator");
     let grid = sim.topology.grid.unwrap();
     sim.ignite(grid.index(size / 2, size - 2)).unwrap();
     let dt = 1.0 / 60.0;

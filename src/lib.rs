@@ -27,10 +27,17 @@
 //! ```
 //!
 //! ## Layers
-//! - [`sim`]: the physics, plain Rust over slices, testable without an `App`.
-//! - [`plugin`]: components, events, system sets; thin systems over [`sim`].
-//! - `render` (feature `render`): the dynamic mesh and click-to-ignite.
+//! Each layer only uses the ones above it in this list:
+//! - [`sim`]: the physics, plain Rust over slices, testable without an `App`. One cloth's step
+//!   is defined once, in [`sim::step`].
+//! - [`plugin`]: components, events, system sets; thin systems that gather the world, call
+//!   the step for each cloth, and report.
+//! - `render` (feature `render`): the dynamic mesh, the burning material, click-to-ignite,
+//!   [`Flammable`](render::Flammable) meshes.
 //! - `smoke` (feature `smoke`): flames, smoke and embers from the burning front.
+//! - `ui` (feature `egui`): the control panel.
+//!
+//! [`BurningClothPlugins`] (here, in the crate root) puts the plugins of every layer together.
 //!
 //! ## Units
 //! Metres, kilograms, seconds, degrees Celsius. The paper's Fahrenheit thresholds are
@@ -40,7 +47,10 @@
 //! - `render` (default): draw cloths with Bevy's renderer. Without it nothing of Bevy's
 //!   renderer is compiled and the simulation runs headless.
 //! - `smoke` (default): flames, smoke and embers. Without it none of that code is compiled.
-//! - `egui` (default, implies `render`): the control panel, [`ui::BurningClothUiPlugin`].
+//! - `egui` (default, implies `render`): the control panel, `ui::BurningClothUiPlugin`.
+//! - `gltf` (default, implies `render`): Bevy's glTF loader, for the glTF example and test.
+//! - `report` (off): the accuracy report and stability matrix ([`report`]), for the report
+//!   examples and their tests.
 
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
@@ -48,6 +58,7 @@
 pub mod plugin;
 #[cfg(feature = "render")]
 pub mod render;
+#[cfg(feature = "report")]
 pub mod report;
 pub mod sim;
 #[cfg(feature = "smoke")]
@@ -55,20 +66,81 @@ pub mod smoke;
 #[cfg(feature = "egui")]
 pub mod ui;
 
+use bevy::app::{FixedUpdate, PluginGroup, PluginGroupBuilder};
+use bevy::ecs::intern::Interned;
+use bevy::ecs::schedule::ScheduleLabel;
+
+/// Every plugin of the crate, for the features compiled in. Add it once, after
+/// `DefaultPlugins` (or `MinimalPlugins` headless):
+///
+/// ```no_run
+/// use bevy::prelude::*;
+/// use bevy_burning_cloth::prelude::*;
+/// App::new()
+///     .add_plugins((MinimalPlugins, BurningClothPlugins::default()))
+///     .run();
+/// ```
+///
+/// | plugin | feature | what it adds |
+/// |---|---|---|
+/// | [`ClothSimulationPlugin`](plugin::ClothSimulationPlugin) | always | building cloths, the step of every cloth, [`Ignite`](plugin::Ignite), events |
+/// | `ClothRenderPlugin` | `render` | a dynamic mesh per cloth, the burning-cloth material, click to ignite, `Flammable` meshes |
+/// | `SmokePlugin` | `smoke` | a flame, smoke and ember emitter per cloth |
+/// | `SmokeRenderPlugin` | `smoke` + `render` | the particles as billboards |
+///
+/// `.build().disable::<X>()` removes one. The simulation runs in `FixedUpdate`;
+/// [`BurningClothPlugins::new`] moves it (and the smoke) to another schedule.
+pub struct BurningClothPlugins {
+    schedule: Interned<dyn ScheduleLabel>,
+}
+
+impl BurningClothPlugins {
+    /// Runs the simulation in `schedule` instead of `FixedUpdate`.
+    pub fn new(schedule: impl ScheduleLabel) -> Self {
+        Self {
+            schedule: schedule.intern(),
+        }
+    }
+}
+
+impl Default for BurningClothPlugins {
+    fn default() -> Self {
+        Self::new(FixedUpdate)
+    }
+}
+
+impl PluginGroup for BurningClothPlugins {
+    fn build(self) -> PluginGroupBuilder {
+        let group = PluginGroupBuilder::start::<Self>().add(plugin::ClothSimulationPlugin {
+            schedule: self.schedule,
+        });
+        #[cfg(feature = "render")]
+        let group = group.add(render::ClothRenderPlugin);
+        #[cfg(feature = "smoke")]
+        let group = group.add(smoke::SmokePlugin {
+            schedule: self.schedule,
+        });
+        #[cfg(all(feature = "smoke", feature = "render"))]
+        let group = group.add(smoke::render::SmokeRenderPlugin);
+        group
+    }
+}
+
 /// The types most users need.
 pub mod prelude {
+    pub use crate::BurningClothPlugins;
     pub use crate::plugin::{
-        BurningClothPlugins, BurningClothSystems, ClothBuildSystems, ClothBurntOut, ClothCollider,
-        ClothEnvironment, ClothIgnited, ClothInstability, ClothParticles, ClothParticlesBurnt,
+        BurningClothSystems, ClothBuildSystems, ClothBurntOut, ClothCollider, ClothEnvironment,
+        ClothIgnited, ClothInUse, ClothInstability, ClothParticles, ClothParticlesBurnt,
         ClothPieceDetached, ClothSimulationControl, ClothSimulationPlugin, ClothSolver,
-        ClothSprings, ClothStatus, ClothStepTiming, ClothSubstepSystems, ClothTopology,
-        DespawnWhenBurntAway, Extinguish, FireSpread, HeatSource, Ignite, IgniteAt,
+        ClothSprings, ClothStatus, ClothStepTiming, ClothTopology, DespawnWhenBurntAway,
+        Extinguish, FireSpread, HeatSource, HoldDespawn, Ignite, IgniteAt,
     };
     #[cfg(feature = "render")]
     pub use crate::render::{ClothRenderPlugin, Flammable};
     pub use crate::sim::{
         BurnMaterial, BurnState, ClothBuilder, ClothError, ColliderShape, Cutout, GridPlane,
-        Integrator, MeshClothBuilder, MeshPins, ProvotSettings, SolverSettings,
+        HeatModel, Integrator, MeshClothBuilder, MeshPins, ProvotSettings, SolverSettings,
     };
     #[cfg(feature = "smoke")]
     pub use crate::smoke::{KindSettings, SmokeEmitter, SmokeKind, SmokePlugin, SmokeSettings};

@@ -61,13 +61,16 @@ fn xpbd_stays_finite_on_a_cloth_100x_stiffer_than_the_explicit_limit() {
     };
     for integrator in [Integrator::Xpbd, Integrator::SymplecticEuler] {
         let mut sim = ClothSim::new(&builder, material, Affine3A::IDENTITY).unwrap();
-        sim.solver.integrator = integrator;
-        sim.solver.substeps = Some(1);
-        sim.solver.provot = None;
-        sim.solver.guard = GuardSettings {
-            enabled: false,
-            ..GuardSettings::default()
-        };
+        sim.update_settings(|s| {
+            s.solver.integrator = integrator;
+            s.solver.substeps = Some(1);
+            s.solver.provot = None;
+            s.solver.guard = GuardSettings {
+                enabled: false,
+                ..GuardSettings::default()
+            };
+        })
+        .unwrap();
         for v in &mut sim.particles.velocity {
             *v = Vec3::new(0.0, 0.0, 0.5);
         }

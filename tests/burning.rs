@@ -1,7 +1,8 @@
 //! Burning behaviour through the public simulation API, without an `App`.
 
 use bevy::math::{Affine3A, Vec3};
-use bevy_burning_cloth::sim::cloth::{heat_params, heat_phase};
+use bevy_burning_cloth::sim::derived::heat_params;
+use bevy_burning_cloth::sim::heat::{HeatWorkspace, paper_heat_step};
 use bevy_burning_cloth::sim::{BurnMaterial, BurnState, ClothBuilder, ClothSim, GridShape};
 
 const DT: f32 = 1.0 / 60.0;
@@ -131,7 +132,8 @@ fn folded(proximity_radius_factor: f32) -> (ClothSim, usize, usize) {
         Affine3A::IDENTITY,
     )
     .unwrap();
-    sim.solver.proximity_radius_factor = proximity_radius_factor;
+    sim.update_settings(|s| s.solver.proximity_radius_factor = proximity_radius_factor)
+        .unwrap();
     let grid = grid_of(&sim);
     for row in 10..20 {
         for column in 0..6 {
@@ -144,21 +146,27 @@ fn folded(proximity_radius_factor: f32) -> (ClothSim, usize, usize) {
     (sim, grid.index(3, 3), grid.index(3, 16))
 }
 
+/// The paper's heat model alone (no motion, so the fold stays as laid out).
 fn heat_only(sim: &mut ClothSim, steps: usize) {
-    let params = heat_params(&sim.material, &sim.topology, &sim.solver, &sim.environment);
+    let params = heat_params(sim.settings(), &sim.topology);
+    let material = *sim.material();
+    let mut workspace = HeatWorkspace::default();
+    let p = &mut sim.particles;
     for _ in 0..steps {
-        heat_phase(
-            &mut sim.particles,
+        paper_heat_step(
             &sim.springs,
+            &p.position,
+            &mut p.temperature,
+            &p.state,
             &params,
-            &mut sim.workspace,
+            &mut workspace,
             DT,
         );
         let mut burnt = Vec::new();
         bevy_burning_cloth::sim::combustion::update_burn_states(
-            &sim.particles.temperature,
-            &mut sim.particles.state,
-            &sim.material,
+            &p.temperature,
+            &mut p.state,
+            &material,
             &mut burnt,
         );
     }
@@ -208,7 +216,8 @@ fn a_burnt_particle_is_frozen_while_the_cloth_moves() {
 fn the_physical_heat_model_burns_a_cloth_away() {
     use bevy_burning_cloth::sim::HeatModel;
     let mut sim = hanging(16, 16, BurnMaterial::COTTON);
-    sim.solver.heat_model = HeatModel::PHYSICAL;
+    sim.update_settings(|s| s.solver.heat_model = HeatModel::PHYSICAL)
+        .unwrap();
     let grid = grid_of(&sim);
     sim.ignite(grid.index(8, 14)).unwrap();
     let (above, beside) = (grid.index(8, 10), grid.index(12, 14));
@@ -265,8 +274,11 @@ fn a_piece_burnt_loose_falls_while_the_pinned_part_stays() {
         sim.particles.temperature[i] = BurnMaterial::COTTON.burnt_temperature + 100.0;
     }
     // Keep the rest cold, so the only change is the cut.
-    sim.material.heat_spread_rate = 0.0;
-    sim.material.self_heating_rate = 0.0;
+    sim.update_settings(|s| {
+        s.material.heat_spread_rate = 0.0;
+        s.material.self_heating_rate = 0.0;
+    })
+    .unwrap();
     let (lower_start, upper_start) = (centroid(&sim, &lower), centroid(&sim, &upper));
     sim.step(1.0 / 60.0);
     tracker.update(&sim.particles, &sim.springs, &mut detached);

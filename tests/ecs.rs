@@ -148,24 +148,26 @@ fn bad_requests_are_ignored_without_panicking() {
 }
 
 #[derive(Resource, Default)]
-struct SubstepsRun(u32);
+struct SimulateRuns(u32);
 
 #[test]
 fn systems_do_no_work_until_a_cloth_exists() {
     let mut app = app();
-    app.init_resource::<SubstepsRun>().add_systems(
-        bevy_burning_cloth::plugin::ClothSubstepSchedule,
-        (|mut run: ResMut<SubstepsRun>| run.0 += 1).in_set(ClothSubstepSystems::Forces),
+    app.init_resource::<SimulateRuns>().add_systems(
+        FixedUpdate,
+        (|mut runs: ResMut<SimulateRuns>| runs.0 += 1).in_set(BurningClothSystems::Simulate),
     );
     for _ in 0..10 {
         app.update();
     }
-    assert_eq!(app.world().resource::<SubstepsRun>().0, 0);
+    assert_eq!(app.world().resource::<SimulateRuns>().0, 0);
+    assert_eq!(app.world().resource::<ClothStepTiming>().steps, 0);
     spawn_silk(&mut app);
     for _ in 0..10 {
         app.update();
     }
-    assert!(app.world().resource::<SubstepsRun>().0 > 0);
+    assert!(app.world().resource::<SimulateRuns>().0 > 0);
+    assert!(app.world().resource::<ClothStepTiming>().steps > 0);
 }
 
 #[test]

@@ -63,7 +63,7 @@ proptest! {
         };
         let _ = sim.ignite(ignite_index);
         let _ = sim.ignite_nearest(Vec3::new(ignite_point.0, ignite_point.1, ignite_point.2));
-        let _ = bevy_burning_cloth::sim::cloth::heat_particle(&mut sim.particles, 0, temperature);
+        let _ = bevy_burning_cloth::sim::ignition::heat_particle(&mut sim.particles, 0, temperature);
         for _ in 0..90 {
             sim.step(1.0 / 60.0);
         }

@@ -22,9 +22,8 @@ fn soak(steps: u32) {
             sim.particles.position.copy_from_slice(&start);
             sim.particles.velocity.fill(Vec3::ZERO);
             sim.particles.state.fill(BurnState::Intact);
-            sim.particles
-                .temperature
-                .fill(sim.material.initial_temperature);
+            let initial_temperature = sim.material().initial_temperature;
+            sim.particles.temperature.fill(initial_temperature);
             let initial = sim.springs.initial_rest_length.clone();
             sim.springs.rest_length.copy_from_slice(&initial);
             sim.ignite((step as usize * 7919) % sim.particles.len())

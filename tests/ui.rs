@@ -4,7 +4,8 @@
 
 use bevy::math::{Affine3A, Vec3};
 use bevy_burning_cloth::sim::{
-    BurnMaterial, ClothBuilder, ClothSim, HeatModel, Integrator, ProvotSettings,
+    BurnMaterial, ClothBuilder, ClothSettings, ClothSim, HeatModel, Integrator, PhysicalHeat,
+    ProvotSettings,
 };
 use bevy_burning_cloth::ui::{MATERIAL_FIELDS, PanelValues};
 
@@ -34,9 +35,9 @@ fn extreme_panel_edits_mid_burn_are_clamped_or_refused_and_the_cloth_stays_finit
         sim.step(1.0 / 60.0);
     }
     let mut in_use = PanelValues {
-        material: sim.material,
-        solver: sim.solver,
-        environment: sim.environment,
+        material: *sim.material(),
+        solver: *sim.solver(),
+        environment: *sim.environment(),
     };
     let (mut applied, mut refused) = (0, 0);
     for round in 0..80 {
@@ -57,12 +58,7 @@ fn extreme_panel_edits_mid_burn_are_clamped_or_refused_and_the_cloth_stays_finit
             ..ProvotSettings::default()
         });
         edit.solver.heat_model = if round % 2 == 0 {
-            HeatModel::Physical {
-                diffusivity: x,
-                convection: x,
-                cooling: x,
-                burn_heating: x,
-            }
+            HeatModel::Physical(PhysicalHeat::from_array([x; 4]))
         } else {
             HeatModel::Paper
         };
@@ -80,10 +76,12 @@ fn extreme_panel_edits_mid_burn_are_clamped_or_refused_and_the_cloth_stays_finit
             }
             Err(_) => refused += 1,
         }
-        sim.material = in_use.material;
-        sim.solver = in_use.solver;
-        sim.environment = in_use.environment;
-        sim.workspace.invalidate_stable_step();
+        sim.set_settings(ClothSettings {
+            material: in_use.material,
+            solver: in_use.solver,
+            environment: in_use.environment,
+        })
+        .expect("what the panel applies is valid");
         for _ in 0..5 {
             sim.step(1.0 / 60.0);
         }

@@ -43,54 +43,85 @@ pub struct ClothSprings(pub sim::Springs);
 pub struct ClothTopology(pub sim::Topology);
 
 /// How a cloth is stepped: integrator, substeps, Provot, proximity heating. Optional on a
-/// cloth entity; defaults are inserted at build time.
+/// cloth entity; defaults are inserted at build time. Changing it takes effect on the next
+/// step (an invalid solver is logged and the change ignored).
 #[derive(Component, Clone, Copy, Debug, Default, Deref, DerefMut)]
 pub struct ClothSolver(pub sim::SolverSettings);
 
-/// A cloth's validated settings and scratch buffers, reused every step.
+/// What the simulation is using for a cloth and what the cloth's latest step did. Read it;
+/// the plugin writes it.
 ///
-/// The systems read the material, solver and environment from here: a change to
-/// [`BurnMaterial`], [`ClothSolver`] or [`ClothEnvironment`](crate::plugin::ClothEnvironment)
-/// is copied in only after it validates, so a bad value never reaches the simulation.
+/// Changes to [`BurnMaterial`], [`ClothSolver`] or
+/// [`ClothEnvironment`](crate::plugin::ClothEnvironment) are copied in here only after they
+/// validate, so a bad value never reaches the simulation: this is the one place that says
+/// which material, solver and environment a cloth runs with.
 #[derive(Component, Clone, Debug)]
-pub struct ClothScratch {
-    /// Buffers of the simulation phases.
-    pub workspace: sim::ClothWorkspace,
-    /// The material in use.
-    pub material: BurnMaterial,
-    /// The solver settings in use.
-    pub solver: sim::SolverSettings,
-    /// The environment in use.
-    pub environment: sim::Environment,
-    /// Force parameters of the current substep.
-    pub force_params: sim::ForceParams,
-    /// The cloth's connected pieces, and which came loose.
-    pub pieces: sim::PieceTracker,
-    /// Pieces that came loose in the last step (scratch for the events).
-    pub detached: Vec<sim::DetachedPiece>,
+pub struct ClothInUse {
+    pub(crate) settings: sim::ClothSettings,
+    pub(crate) outcome: sim::StepOutcome,
 }
 
-impl ClothScratch {
-    /// Scratch for a cloth with a validated material and solver.
-    pub fn new(material: BurnMaterial, solver: sim::SolverSettings) -> Self {
+impl ClothInUse {
+    pub(crate) fn new(settings: sim::ClothSettings) -> Self {
         Self {
-            workspace: sim::ClothWorkspace::default(),
-            material,
-            solver,
-            environment: sim::Environment::default(),
-            force_params: sim::ForceParams::default(),
-            pieces: sim::PieceTracker::default(),
-            detached: Vec::new(),
+            settings,
+            outcome: sim::StepOutcome::default(),
         }
+    }
+
+    /// The material, solver and environment in use.
+    pub fn settings(&self) -> &sim::ClothSettings {
+        &self.settings
+    }
+
+    /// The material in use.
+    pub fn material(&self) -> &BurnMaterial {
+        &self.settings.material
+    }
+
+    /// The solver settings in use.
+    pub fn solver(&self) -> &sim::SolverSettings {
+        &self.settings.solver
+    }
+
+    /// The environment in use.
+    pub fn environment(&self) -> &sim::Environment {
+        &self.settings.environment
+    }
+
+    /// What the latest step did, in numbers.
+    pub fn last_step(&self) -> &sim::StepReport {
+        &self.outcome.report
+    }
+
+    /// Indices of the particles that burnt away in the latest step.
+    pub fn newly_burnt(&self) -> &[u32] {
+        self.outcome.newly_burnt()
+    }
+
+    /// Pieces that lost their last pin in the latest step.
+    pub fn detached(&self) -> &[sim::DetachedPiece] {
+        self.outcome.detached()
     }
 }
 
+/// A cloth's derived parameters and scratch memory (private to the plugin).
+#[derive(Component, Clone, Debug)]
+pub(crate) struct ClothScratch(pub(crate) sim::ClothWorkspace);
+
 /// Despawns the cloth entity (and its children) once nothing of it is left: no triangle is
-/// drawn, no particle is burning, and (with the `smoke` feature) its last smoke particle has
-/// died. A cloth whose fire goes out with part of it left stays. Put it on the cloth entity
-/// (with the `ClothBuilder`, the `MeshClothBuilder`, or the flammable mesh).
+/// drawn, no particle is burning, and nothing holds it with [`HoldDespawn`] (the smoke plugin
+/// does while the cloth's smoke is still in the air). A cloth whose fire goes out with part of
+/// it left stays. Put it on the cloth entity (with the `ClothBuilder`, the
+/// `MeshClothBuilder`, or the flammable mesh).
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct DespawnWhenBurntAway;
+
+/// Keeps a burnt-away cloth from being despawned by [`DespawnWhenBurntAway`] while present:
+/// another plugin (the smoke, whose particles still fly) or a game system still needs the
+/// entity. Remove it when done.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HoldDespawn;
 
 /// Live numbers about a cloth, updated every fixed step, for gameplay and UI.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq)]

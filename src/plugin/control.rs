@@ -27,8 +27,8 @@ pub fn simulation_is_running(control: Option<Res<ClothSimulationControl>>) -> bo
     control.is_none_or(|control| !control.paused || control.pending_steps > 0)
 }
 
-/// Wall-clock cost of the last simulation step of all cloths (heat, combustion, dynamics,
-/// culling; not smoke or drawing).
+/// Wall-clock cost of the last simulation step of all cloths (gathering, every cloth's step,
+/// status and events; not smoke or drawing).
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
 pub struct ClothStepTiming {
     /// Wall time of the last step.
@@ -53,13 +53,9 @@ pub(crate) fn start_step_timer(mut timing: ResMut<ClothStepTiming>) {
 }
 
 /// Last system of a cloth step: stops the clock.
-pub(crate) fn finish_step_timer(
-    mut timing: ResMut<ClothStepTiming>,
-    counter: Res<super::SubstepCounter>,
-) {
+pub(crate) fn finish_step_timer(mut timing: ResMut<ClothStepTiming>) {
     if let Some(started) = timing.started.take() {
         timing.last_step = started.elapsed();
-        timing.substeps = counter.count;
         timing.steps += 1;
     }
 }

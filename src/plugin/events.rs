@@ -1,7 +1,7 @@
 //! Events in and out of the simulation: [`Ignite`] asks a cloth to catch fire;
 //! [`ClothIgnited`] and [`ClothBurntOut`] tell gameplay what happened.
 
-use super::components::{ClothParticles, ClothScratch, PendingIgnitions};
+use super::components::{ClothInUse, ClothParticles, PendingIgnitions};
 use crate::sim::{self, BurnMaterial, ClothBuilder, ClothError, MeshClothBuilder};
 use bevy::prelude::*;
 
@@ -103,10 +103,10 @@ impl Extinguish {
 /// Applies [`Extinguish`] to a built cloth.
 pub(crate) fn on_extinguish(
     extinguish: On<Extinguish>,
-    mut cloths: Query<(&mut ClothParticles, &ClothScratch)>,
+    mut cloths: Query<(&mut ClothParticles, &ClothInUse)>,
 ) {
     let event = *extinguish.event();
-    let Ok((mut particles, scratch)) = cloths.get_mut(event.entity) else {
+    let Ok((mut particles, in_use)) = cloths.get_mut(event.entity) else {
         warn!(
             "Extinguish ignored: entity {} is not a built cloth",
             event.entity
@@ -122,7 +122,7 @@ pub(crate) fn on_extinguish(
         );
         return;
     }
-    let material = &scratch.material;
+    let material = in_use.material();
     let to = event
         .temperature
         .unwrap_or_else(|| sim::combustion::extinguished_temperature(material));
@@ -208,17 +208,17 @@ pub(crate) fn apply_ignition(
 ) -> Result<usize, ClothError> {
     let index = match at {
         IgniteAt::Particle(index) => index,
-        IgniteAt::WorldPoint(point) => sim::cloth::nearest_unburnt_particle(particles, point)?,
+        IgniteAt::WorldPoint(point) => sim::ignition::nearest_unburnt_particle(particles, point)?,
     };
     let temperature = temperature.unwrap_or(material.seed_temperature);
-    sim::cloth::heat_particle(particles, index, temperature)?;
+    sim::ignition::heat_particle(particles, index, temperature)?;
     Ok(index)
 }
 
 /// Observer of [`Ignite`].
 pub(crate) fn on_ignite(
     ignite: On<Ignite>,
-    mut cloths: Query<(&mut ClothParticles, Option<&BurnMaterial>)>,
+    mut cloths: Query<(&mut ClothParticles, &ClothInUse)>,
     mut pending: Query<
         Option<&mut PendingIgnitions>,
         Or<(With<ClothBuilder>, With<MeshClothBuilder>)>,
@@ -226,9 +226,9 @@ pub(crate) fn on_ignite(
     mut commands: Commands,
 ) {
     let event = *ignite.event();
-    if let Ok((mut particles, material)) = cloths.get_mut(event.entity) {
-        let material = material.copied().unwrap_or_default();
-        if let Err(error) = apply_ignition(&mut particles, &material, event.at, event.temperature) {
+    if let Ok((mut particles, in_use)) = cloths.get_mut(event.entity) {
+        let material = in_use.material();
+        if let Err(error) = apply_ignition(&mut particles, material, event.at, event.temperature) {
             warn!("Ignite on cloth {} ignored: {error}", event.entity);
         }
     } else if let Ok(queue) = pending.get_mut(event.entity) {

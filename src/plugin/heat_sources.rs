@@ -3,10 +3,7 @@
 
 use super::ClothEnvironment;
 use super::components::ClothParticles;
-use crate::sim::heat_sources::{
-    HashedHeatSources, WorldHeatSource, apply_hashed_heat_sources, apply_heat_sources,
-    unburnt_bounds,
-};
+use crate::sim::heat_sources::{HashedHeatSources, WorldHeatSource};
 use bevy::prelude::*;
 
 /// A heat source on any entity with a `Transform`: a torch, a fireball, a lava tile, a
@@ -121,16 +118,15 @@ pub(crate) fn gather_heat_sources(
     }
 }
 
-/// Heats every cloth from the heat sources and from the burning particles of the other
-/// cloths (Heat, after each cloth's own heat model).
-pub(crate) fn heat_from_sources(
-    time: Res<Time>,
+/// Hashes the burning particles of every cloth as small heat sources for the other cloths
+/// (Prepare): from the state the previous step left, so every cloth steps against the same
+/// fires whatever order the cloths step in.
+pub(crate) fn gather_burning_particles(
     spread: Res<FireSpread>,
     environment: Res<ClothEnvironment>,
     mut cache: ResMut<ClothHeatSources>,
-    mut cloths: Query<(Entity, &mut ClothParticles)>,
+    cloths: Query<(Entity, &ClothParticles)>,
 ) {
-    let h = time.delta_secs();
     let cache = &mut *cache;
     cache.burning.clear();
     let spreading = spread.enabled
@@ -139,56 +135,29 @@ pub(crate) fn heat_from_sources(
         && spread.rate.is_finite()
         && spread.rate > 0.0
         && cloths.iter().nth(1).is_some();
-    if spreading {
-        let up = environment.up.normalize_or(Vec3::Y) * (0.5 * spread.radius);
-        for (entity, particles) in &cloths {
-            let owner = entity.to_bits();
-            for ((p, t), s) in particles
-                .position
-                .iter()
-                .zip(&particles.temperature)
-                .zip(&particles.state)
-            {
-                if s.is_ignited() {
-                    cache.burning.push(WorldHeatSource {
-                        centre: *p + up,
-                        radius: spread.radius,
-                        temperature: *t,
-                        rate: spread.rate,
-                        falloff: 1.0,
-                        owner,
-                    });
-                }
-            }
-        }
-        cache.burning.rebuild();
-    }
-    if cache.explicit.is_empty() && cache.burning.sources.is_empty() {
+    if !spreading {
         return;
     }
-    for (entity, mut particles) in &mut cloths {
-        let particles = &mut particles.0;
-        if !cache.explicit.is_empty()
-            && let Some(bounds) = unburnt_bounds(&particles.position, &particles.state)
+    let up = environment.unit_up() * (0.5 * spread.radius);
+    for (entity, particles) in &cloths {
+        let owner = entity.to_bits();
+        for ((p, t), s) in particles
+            .position
+            .iter()
+            .zip(&particles.temperature)
+            .zip(&particles.state)
         {
-            apply_heat_sources(
-                &particles.position,
-                &mut particles.temperature,
-                &particles.state,
-                bounds,
-                &cache.explicit,
-                h,
-            );
-        }
-        if !cache.burning.sources.is_empty() {
-            apply_hashed_heat_sources(
-                &particles.position,
-                &mut particles.temperature,
-                &particles.state,
-                entity.to_bits(),
-                &cache.burning,
-                h,
-            );
+            if s.is_ignited() {
+                cache.burning.push(WorldHeatSource {
+                    centre: *p + up,
+                    radius: spread.radius,
+                    temperature: *t,
+                    rate: spread.rate,
+                    falloff: 1.0,
+                    owner,
+                });
+            }
         }
     }
+    cache.burning.rebuild();
 }

@@ -1,13 +1,23 @@
-//! The ECS face of the simulation: components, events, system sets and plugins.
+//! The ECS face of the simulation: components, events, system sets and
+//! [`ClothSimulationPlugin`].
 //!
-//! | plugin | feature | what it adds |
-//! |---|---|---|
-//! | [`ClothSimulationPlugin`] | always | building cloths, heat, combustion, dynamics, culling, [`Ignite`] |
-//! | `ClothRenderPlugin` (module `render`) | `render` | a dynamic mesh per cloth, the burning-cloth material, click to ignite |
-//! | `SmokePlugin` (module `smoke`) | `smoke` | a flame, smoke and ember emitter per cloth |
-//! | `SmokeRenderPlugin` (module `smoke::render`) | `smoke` + `render` | the particles as billboards |
+//! A cloth is one entity. [`ClothBuilder`](crate::sim::ClothBuilder) or
+//! [`MeshClothBuilder`](crate::sim::MeshClothBuilder) on it (with a
+//! [`BurnMaterial`](crate::sim::BurnMaterial) and a `Transform`) is turned into the
+//! simulated components in `PostUpdate` ([`ClothBuildSystems`]). Each step of the simulation
+//! schedule then runs the chained [`BurningClothSystems`]:
 //!
-//! [`BurningClothPlugins`] groups them, so `.build().disable::<X>()` removes one.
+//! | set | systems |
+//! |---|---|
+//! | `Prepare` | colliders, [`HeatSource`]s and the burning particles of every cloth gathered in world space; valid settings taken into use ([`ClothInUse`]) |
+//! | `Simulate` | every cloth runs [`ClothMut::step`](crate::sim::ClothMut::step): pins, heat, combustion, dynamics, culling |
+//! | `Report` | [`ClothStatus`] written; [`ClothIgnited`], [`ClothBurntOut`], [`ClothParticlesBurnt`], [`ClothPieceDetached`], [`ClothInstability`] triggered |
+//!
+//! The physics lives in [`crate::sim`]; these systems only gather, call and report. This
+//! module knows nothing of drawing, smoke or the panel: those plugins read its components.
+//!
+//! Where its accuracy ends: that of [`crate::sim`] (see its page). Cloths do not collide with
+//! each other; a loose piece stays part of its cloth entity.
 
 mod components;
 mod control;
@@ -17,8 +27,8 @@ mod schedule;
 mod systems;
 
 pub use components::{
-    ClothCollider, ClothParticles, ClothScratch, ClothSolver, ClothSprings, ClothStatus,
-    ClothTopology, DespawnWhenBurntAway,
+    ClothCollider, ClothInUse, ClothParticles, ClothSolver, ClothSprings, ClothStatus,
+    ClothTopology, DespawnWhenBurntAway, HoldDespawn,
 };
 #[cfg(feature = "smoke")]
 pub(crate) use control::consume_pending_step;
@@ -28,14 +38,11 @@ pub use events::{
     Extinguish, Ignite, IgniteAt,
 };
 pub use heat_sources::{ClothHeatSources, FireSpread, HeatSource};
-pub use schedule::{
-    BurningClothSystems, ClothSubstepSchedule, ClothSubstepSystems, SubstepCounter,
-};
+pub use schedule::BurningClothSystems;
 
 use crate::sim;
-use bevy::app::PluginGroupBuilder;
 use bevy::ecs::intern::Interned;
-use bevy::ecs::schedule::{ScheduleLabel, SingleThreadedExecutor};
+use bevy::ecs::schedule::ScheduleLabel;
 use bevy::prelude::*;
 use bevy::transform::TransformSystems;
 
@@ -54,56 +61,9 @@ pub struct ClothBuildSystems;
 #[derive(Resource, Clone, Debug, Default)]
 pub struct ClothColliders(pub Vec<sim::WorldCollider>);
 
-/// Every plugin of the crate. Add it once:
-///
-/// ```no_run
-/// use bevy::prelude::*;
-/// use bevy_burning_cloth::prelude::*;
-/// App::new()
-///     .add_plugins((MinimalPlugins, BurningClothPlugins::default()))
-///     .run();
-/// ```
-///
-/// The simulation runs in `FixedUpdate`; [`BurningClothPlugins::new`] moves it to another
-/// schedule.
-pub struct BurningClothPlugins {
-    schedule: Interned<dyn ScheduleLabel>,
-}
-
-impl BurningClothPlugins {
-    /// Runs the simulation in `schedule` instead of `FixedUpdate`.
-    pub fn new(schedule: impl ScheduleLabel) -> Self {
-        Self {
-            schedule: schedule.intern(),
-        }
-    }
-}
-
-impl Default for BurningClothPlugins {
-    fn default() -> Self {
-        Self::new(FixedUpdate)
-    }
-}
-
-impl PluginGroup for BurningClothPlugins {
-    fn build(self) -> PluginGroupBuilder {
-        let group = PluginGroupBuilder::start::<Self>().add(ClothSimulationPlugin {
-            schedule: self.schedule,
-        });
-        #[cfg(feature = "render")]
-        let group = group.add(crate::render::ClothRenderPlugin);
-        #[cfg(feature = "smoke")]
-        let group = group.add(crate::smoke::SmokePlugin {
-            schedule: self.schedule,
-        });
-        #[cfg(all(feature = "smoke", feature = "render"))]
-        let group = group.add(crate::smoke::render::SmokeRenderPlugin);
-        group
-    }
-}
-
-/// Builds cloths from [`ClothBuilder`](crate::sim::ClothBuilder)s and steps them: heat,
-/// combustion, dynamics in substeps, culling. Handles [`Ignite`].
+/// Builds cloths from [`ClothBuilder`](crate::sim::ClothBuilder)s and
+/// [`MeshClothBuilder`](crate::sim::MeshClothBuilder)s and steps them; handles [`Ignite`] and
+/// [`Extinguish`]. Part of [`BurningClothPlugins`](crate::BurningClothPlugins).
 pub struct ClothSimulationPlugin {
     /// The schedule the simulation steps in.
     pub schedule: Interned<dyn ScheduleLabel>,
@@ -123,7 +83,6 @@ impl Plugin for ClothSimulationPlugin {
             app.add_plugins(TransformPlugin);
         }
         app.init_resource::<ClothEnvironment>()
-            .init_resource::<SubstepCounter>()
             .init_resource::<ClothColliders>()
             .init_resource::<ClothSimulationControl>()
             .init_resource::<ClothStepTiming>()
@@ -132,32 +91,13 @@ impl Plugin for ClothSimulationPlugin {
             .add_observer(events::on_ignite)
             .add_observer(events::on_extinguish);
 
-        let mut substep = Schedule::new(ClothSubstepSchedule);
-        substep.set_executor(SingleThreadedExecutor::new());
-        substep.configure_sets(
-            (
-                ClothSubstepSystems::Forces,
-                ClothSubstepSystems::Integrate,
-                ClothSubstepSystems::Constrain,
-            )
-                .chain(),
-        );
-        substep.add_systems((
-            systems::prepare_forces.in_set(ClothSubstepSystems::Forces),
-            systems::integrate_cloths.in_set(ClothSubstepSystems::Integrate),
-            systems::constrain_cloths.in_set(ClothSubstepSystems::Constrain),
-        ));
-        app.add_schedule(substep);
-
         let has_cloth = any_with_component::<ClothParticles>;
         app.configure_sets(
             self.schedule,
             (
                 BurningClothSystems::Prepare,
-                BurningClothSystems::Heat,
-                BurningClothSystems::Combust,
                 BurningClothSystems::Simulate,
-                BurningClothSystems::Cull,
+                BurningClothSystems::Report,
             )
                 .chain()
                 .run_if(has_cloth)
@@ -170,27 +110,20 @@ impl Plugin for ClothSimulationPlugin {
                     control::start_step_timer,
                     systems::gather_colliders,
                     heat_sources::gather_heat_sources,
-                    systems::prepare_cloths,
+                    heat_sources::gather_burning_particles,
+                    systems::take_settings_into_use,
                 )
                     .chain()
                     .in_set(BurningClothSystems::Prepare),
-                (systems::spread_heat, heat_sources::heat_from_sources)
+                systems::simulate_cloths.in_set(BurningClothSystems::Simulate),
+                (systems::report_cloths, control::finish_step_timer)
                     .chain()
-                    .in_set(BurningClothSystems::Heat),
-                systems::combust.in_set(BurningClothSystems::Combust),
-                systems::run_substeps.in_set(BurningClothSystems::Simulate),
-                (
-                    systems::guard_cloths,
-                    systems::cull_cloths,
-                    control::finish_step_timer,
-                )
-                    .chain()
-                    .in_set(BurningClothSystems::Cull),
+                    .in_set(BurningClothSystems::Report),
             ),
         )
         .add_systems(
             self.schedule,
-            control::consume_pending_step.after(BurningClothSystems::Cull),
+            control::consume_pending_step.after(BurningClothSystems::Report),
         )
         .add_systems(
             PostUpdate,

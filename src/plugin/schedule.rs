@@ -1,50 +1,22 @@
-//! System sets and the substep schedule.
+//! The simulation's system sets.
 //!
 //! Each step of the simulation schedule (default `FixedUpdate`) runs the chained sets of
-//! [`BurningClothSystems`]. Its `Simulate` set runs [`ClothSubstepSchedule`] once per
-//! substep, whose chained [`ClothSubstepSystems`] move the cloth. Order your own systems
-//! against these sets; add gameplay forces to `ClothParticles::external_force` in
-//! [`ClothSubstepSystems::Forces`].
+//! [`BurningClothSystems`]: the world is gathered, every cloth steps (the phases of
+//! [`ClothMut::step`](crate::sim::ClothMut::step), in the order defined there), then status
+//! and events are written. Order your own systems against these sets: add gameplay forces to
+//! `ClothParticles::external_force` before [`BurningClothSystems::Simulate`] (they act for the
+//! whole step), read results after [`BurningClothSystems::Report`].
 
-use bevy::ecs::schedule::ScheduleLabel;
 use bevy::prelude::*;
 
 /// The chained sets of one simulation step.
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BurningClothSystems {
-    /// Applies material and solver changes, moves pins with their entity, picks substeps.
+    /// Colliders, heat sources and burning particles are gathered in world space; valid
+    /// material, solver and environment changes are taken into use.
     Prepare,
-    /// Heat spreads: the paper's upward push and proximity heating.
-    Heat,
-    /// Particles ignite and burn by temperature; rest lengths shrink; events are sent.
-    Combust,
-    /// Runs [`ClothSubstepSchedule`] once per substep.
+    /// Every cloth steps: pins, heat, combustion, dynamics, culling.
     Simulate,
-    /// Rebuilds each cloth's index list from the unburnt particles.
-    Cull,
-}
-
-/// The schedule run once per substep inside [`BurningClothSystems::Simulate`].
-#[derive(ScheduleLabel, Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct ClothSubstepSchedule;
-
-/// The chained sets of one substep.
-#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ClothSubstepSystems {
-    /// Force parameters are refreshed; add external forces here.
-    Forces,
-    /// The integrator advances each cloth.
-    Integrate,
-    /// Provot's correction limits stretch.
-    Constrain,
-}
-
-/// Which substep is running. Cloths need different substep counts: a cloth takes part in
-/// substeps `0..ClothStatus::substeps` with a step of `dt / substeps` each.
-#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SubstepCounter {
-    /// Index of the running substep.
-    pub index: u32,
-    /// Substeps run in this step: the most any cloth needs.
-    pub count: u32,
+    /// [`ClothStatus`](super::ClothStatus) is updated and events are triggered.
+    Report,
 }

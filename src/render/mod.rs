@@ -26,7 +26,7 @@ pub mod vertices;
 pub use flammable::Flammable;
 pub use material::{BurnExtension, BurnLook, BurningClothMaterial, burning_cloth_material};
 
-use crate::plugin::{ClothParticles, ClothScratch, ClothTopology, Ignite};
+use crate::plugin::{ClothBuildSystems, ClothInUse, ClothParticles, ClothTopology, Ignite};
 use crate::sim::BurnMaterial;
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
@@ -46,7 +46,7 @@ impl Plugin for ClothRenderPlugin {
                 PostUpdate,
                 (flammable::hand_flammable_down, flammable::make_flammable)
                     .chain()
-                    .before(crate::plugin::ClothBuildSystems)
+                    .before(ClothBuildSystems)
                     .run_if(resource_exists::<Assets<Mesh>>)
                     .run_if(any_with_component::<Flammable>),
             );
@@ -68,7 +68,7 @@ impl Plugin for ClothRenderPlugin {
                 PostUpdate,
                 (attach_cloth_meshes, sync_cloth_meshes)
                     .chain()
-                    .after(crate::plugin::ClothBuildSystems)
+                    .after(ClothBuildSystems)
                     .run_if(any_with_component::<ClothParticles>),
             );
     }
@@ -153,7 +153,7 @@ fn sync_cloth_meshes(
         (
             &ClothParticles,
             &ClothTopology,
-            &ClothScratch,
+            &ClothInUse,
             &GlobalTransform,
             &Mesh3d,
             &mut ClothMesh,
@@ -161,7 +161,7 @@ fn sync_cloth_meshes(
         Changed<ClothParticles>,
     >,
 ) {
-    for (particles, topology, scratch, transform, mesh3d, mut buffers) in &mut cloths {
+    for (particles, topology, in_use, transform, mesh3d, mut buffers) in &mut cloths {
         let Some(mut mesh) = meshes.get_mut(&mesh3d.0) else {
             continue;
         };
@@ -173,7 +173,7 @@ fn sync_cloth_meshes(
             &topology.live_indices,
             &mut buffers.normals,
         );
-        vertices::burn_attributes(particles, &scratch.material, &mut buffers.burn);
+        vertices::burn_attributes(particles, in_use.material(), &mut buffers.burn);
         write_attribute(&mut mesh, Mesh::ATTRIBUTE_POSITION, &buffers.positions);
         write_attribute(&mut mesh, Mesh::ATTRIBUTE_NORMAL, &buffers.normals);
         if let Some(VertexAttributeValues::Float32x2(burn)) =

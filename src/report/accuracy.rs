@@ -19,13 +19,13 @@
 //! is kept and marked as blown up. The heat problem sweeps the grid spacing (the explicit
 //! conduction step follows from it), not the time step.
 
-use crate::sim::conduction::{ConductionParams, conduction_step};
+use crate::sim::conduction::{Air, conduction_step};
 use crate::sim::forces::ForceParams;
 use crate::sim::integrate::{IntegratorWorkspace, integrate};
 use crate::sim::springs::{SpringCoefficients, spring_force};
 use crate::sim::{
     BurnMaterial, BurnState, ClothBuilder, ClothSim, GuardSettings, Integrator, Particles,
-    SpringKind, Springs,
+    PhysicalHeat, SpringKind, Springs,
 };
 use glam::{Affine3A, Vec3};
 use std::fmt::Write as _;
@@ -259,14 +259,18 @@ fn raw_cloth(builder: ClothBuilder, integrator: Integrator) -> ClothSim {
         Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0)),
     )
     .expect("report scenes are valid");
-    sim.solver.integrator = integrator;
-    sim.solver.substeps = Some(1);
-    sim.solver.provot = None;
-    sim.solver.proximity_radius_factor = 0.0;
-    sim.solver.guard = GuardSettings {
-        enabled: false,
-        ..GuardSettings::default()
-    };
+    sim.update_settings(|settings| {
+        let solver = &mut settings.solver;
+        solver.integrator = integrator;
+        solver.substeps = Some(1);
+        solver.provot = None;
+        solver.proximity_radius_factor = 0.0;
+        solver.guard = GuardSettings {
+            enabled: false,
+            ..GuardSettings::default()
+        };
+    })
+    .expect("report settings are valid");
     sim
 }
 
@@ -330,12 +334,16 @@ pub fn cloth_at_rest_error(size: u32, integrator: Integrator, h: f32) -> f64 {
     );
     // Settle under 10× the air drag (about critical damping of the slowest swing), then
     // measure with the material's own drag.
-    let drag = sim.material.air_drag;
-    sim.material.air_drag = SETTLING_AIR_DRAG;
+    let material = *sim.material();
+    let settling = BurnMaterial {
+        air_drag: SETTLING_AIR_DRAG,
+        ..material
+    };
+    sim.set_material(settling).expect("settling drag is valid");
     if !run_for(&mut sim, 2.0, h) {
         return f64::NAN;
     }
-    sim.material.air_drag = drag;
+    sim.set_material(material).expect("the material was valid");
     let pinned_springs: Vec<usize> = (0..sim.springs.len())
         .filter(|&s| {
             sim.particles.is_pinned(sim.springs.a[s] as usize)
@@ -346,7 +354,7 @@ pub fn cloth_at_rest_error(size: u32, integrator: Integrator, h: f32) -> f64 {
         .particles
         .mass
         .iter()
-        .map(|&m| f64::from(m * sim.environment.gravity.length()))
+        .map(|&m| f64::from(m * sim.environment().gravity.length()))
         .sum();
     let steps = (1.0 / h).round() as usize;
     let mut support = 0.0f64;
@@ -364,8 +372,9 @@ pub fn cloth_at_rest_error(size: u32, integrator: Integrator, h: f32) -> f64 {
 /// `springs` on them, minus their own weight.
 fn support_force(sim: &ClothSim, springs: &[usize]) -> Vec3 {
     let p = &sim.particles;
-    let gravity = sim.environment.gravity;
-    let coefficients = SpringCoefficients::from_material(&sim.material, sim.topology.particle_mass);
+    let gravity = sim.environment().gravity;
+    let coefficients =
+        SpringCoefficients::from_material(sim.material(), sim.topology.particle_mass);
     let mut support = Vec3::ZERO;
     for &s in springs {
         let (a, b) = (sim.springs.a[s] as usize, sim.springs.b[s] as usize);
@@ -414,12 +423,15 @@ pub fn heat_diffusion_error(spacing: f32) -> f64 {
         .iter()
         .map(|&x| gaussian(x, s * s) as f32)
         .collect();
-    let params = ConductionParams {
+    let params = PhysicalHeat {
         diffusivity: alpha as f32,
         convection: 0.0,
         cooling: 0.0,
-        combustion_heating: 0.0,
-        ..ConductionParams::default()
+        burn_heating: 0.0,
+    };
+    let air = Air {
+        temperature: 20.0,
+        up: Vec3::Y,
     };
     let mut delta = Vec::new();
     // A time step in fixed proportion to dx² (half the stability limit), so the time and
@@ -434,6 +446,7 @@ pub fn heat_diffusion_error(spacing: f32) -> f64 {
             &mut temperature,
             &p.state,
             &params,
+            air,
             &mut delta,
             h,
         );

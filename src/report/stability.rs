@@ -12,11 +12,9 @@
 //! does work on the cloth: their gain is shown, not judged. The scale is `M g H + E_spring(0)`
 //! with `M` the cloth's mass and `H` its height.
 
+use crate::sim::derived::force_params;
 use crate::sim::guard::BlowUpGuard;
-use crate::sim::{
-    BurnMaterial, ClothBuilder, ClothSim, GuardSettings, Integrator, SpringKind,
-    cloth::force_params,
-};
+use crate::sim::{BurnMaterial, ClothBuilder, ClothSim, GuardSettings, Integrator, SpringKind};
 use glam::{Affine3A, Vec3};
 
 /// One row of the matrix: a scene and what it stresses.
@@ -84,7 +82,8 @@ fn scene(material: BurnMaterial, integrator: Integrator, builder: ClothBuilder) 
         Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0)),
     )
     .expect("stability scenes are valid");
-    sim.solver.integrator = integrator;
+    sim.update_settings(|s| s.solver.integrator = integrator)
+        .expect("every integrator is valid");
     // Start the cloth swinging so every case has motion to integrate.
     for v in &mut sim.particles.velocity {
         *v = Vec3::new(0.0, 0.0, 0.5);
@@ -125,13 +124,10 @@ pub fn cases() -> Vec<StabilityCase> {
             burning: false,
             build: Box::new(move |i| {
                 let mut sim = hanging(material(2_000.0, 200.0), i);
-                let stable = sim.workspace.stable_step(
-                    &sim.particles,
-                    &sim.springs,
-                    &force_params(&sim.material, &sim.topology, &sim.environment).coefficients,
-                );
+                let stable = sim.stable_step();
                 let substeps = (DT / (factor * stable)).round().max(1.0) as u32;
-                sim.solver.substeps = Some(substeps);
+                sim.update_settings(|s| s.solver.substeps = Some(substeps))
+                    .expect("at least one substep");
                 sim
             }),
         });
@@ -207,7 +203,7 @@ pub fn cases() -> Vec<StabilityCase> {
         burning: false,
         build: Box::new(|i| {
             let mut sim = hanging(material(100.0, 10.0), i);
-            let floor = sim.material.min_rest_fraction;
+            let floor = sim.material().min_rest_fraction;
             for s in 0..sim.springs.len() {
                 sim.springs.rest_length[s] = floor * sim.springs.initial_rest_length[s];
             }
@@ -245,20 +241,20 @@ pub fn cases() -> Vec<StabilityCase> {
 
 /// Total energy of the unburnt particles, J (see the module docs).
 pub fn total_energy(sim: &ClothSim) -> f32 {
-    crate::sim::cloth::cloth_energy(
+    crate::sim::energy::cloth_energy(
         &sim.particles,
         &sim.springs,
-        &sim.material,
+        sim.material(),
         &sim.topology,
-        &sim.environment,
+        sim.environment(),
     )
 }
 
 fn energy_scale(sim: &ClothSim) -> f32 {
-    let params = force_params(&sim.material, &sim.topology, &sim.environment);
+    let params = force_params(sim.material(), &sim.topology, sim.environment());
     let height = (ROWS - 1) as f32 * SPACING;
     let p = &sim.particles;
-    p.live_mass() * sim.environment.gravity.length() * height
+    p.live_mass() * sim.environment().gravity.length() * height
         + p.kinetic_energy()
         + sim
             .springs
@@ -268,10 +264,8 @@ fn energy_scale(sim: &ClothSim) -> f32 {
 /// Runs one case for `steps` fixed steps with the guard on or off.
 pub fn run(case: &StabilityCase, integrator: Integrator, steps: u32, guarded: bool) -> RunResult {
     let mut sim = (case.build)(integrator);
-    sim.solver.guard = GuardSettings {
-        enabled: guarded,
-        ..sim.solver.guard
-    };
+    sim.update_settings(|s| s.solver.guard.enabled = guarded)
+        .expect("the guard switch is valid");
     let e0 = total_energy(&sim);
     let scale = energy_scale(&sim).max(1e-12);
     let mut result = RunResult {

@@ -6,12 +6,12 @@
 //!
 //! `mᵢ dTᵢ/dt = Σⱼ m̄ᵢⱼ (α/lᵢⱼ² + c·max(ûᵢⱼ·up, 0)·[Tᵢ > Tⱼ]) (Tⱼ − Tᵢ) + mᵢ q [ignited] − mᵢ κ (Tᵢ − T_air)`
 //!
-//! - conduction with diffusivity `α` (m²/s): on a square grid of spacing `dx` this is the
+//! - conduction with diffusivity `α` (m²/s, [`PhysicalHeat::diffusivity`]): on a square grid of spacing `dx` this is the
 //!   5-point Laplacian, so `∂T/∂t = α∇²T` (checked against the spreading Gaussian);
 //! - convection at rate `c` (1/s): hot air carries heat from a particle to a cooler one above
 //!   it, in proportion to how vertical the link is — fire climbs, as in the paper, but heat
 //!   moves rather than being created;
-//! - heat release `q` (°C/s) while a particle is ignited (the material's self-heating rate);
+//! - heat release `q` (°C/s, [`PhysicalHeat::burn_heating`]) while a particle is ignited;
 //! - cooling at rate `κ` (1/s) towards the air temperature.
 //!
 //! Each exchange is a flux between two particles, so with no burning and no cooling
@@ -22,37 +22,17 @@
 
 use super::material::MAX_TEMPERATURE;
 use super::particles::BurnState;
+use super::settings::PhysicalHeat;
 use super::springs::{SpringKind, Springs};
 use glam::Vec3;
 
-/// Parameters of the physical heat model.
+/// The air around a cloth as the physical model sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ConductionParams {
-    /// Thermal diffusivity along the cloth, m²/s.
-    pub diffusivity: f32,
-    /// Rate at which heat climbs from a hot particle to a cooler one directly above, 1/s.
-    pub convection: f32,
-    /// Rate of cooling towards the air, 1/s.
-    pub cooling: f32,
-    /// Heating of an ignited particle by its own burning, °C/s.
-    pub combustion_heating: f32,
-    /// Air temperature, °C.
-    pub air_temperature: f32,
-    /// World up, unit vector.
+pub struct Air {
+    /// Air temperature, °C: particles cool towards it.
+    pub temperature: f32,
+    /// World up, unit vector: heat climbs along it.
     pub up: Vec3,
-}
-
-impl Default for ConductionParams {
-    fn default() -> Self {
-        Self {
-            diffusivity: 2e-4,
-            convection: 2.0,
-            cooling: 0.05,
-            combustion_heating: 0.0,
-            air_temperature: 20.0,
-            up: Vec3::Y,
-        }
-    }
 }
 
 /// Exchange rate of one structural spring, 1/s per unit mass, or `None` for springs that do
@@ -64,7 +44,8 @@ fn exchange_rate(
     position: &[Vec3],
     temperature: &[f32],
     state: &[BurnState],
-    params: &ConductionParams,
+    heat: &PhysicalHeat,
+    up: Vec3,
 ) -> Option<(usize, usize, f32)> {
     if springs.kind[s] != SpringKind::Structural {
         return None;
@@ -77,37 +58,38 @@ fn exchange_rate(
     if rest <= 0.0 {
         return None;
     }
-    let mut rate = params.diffusivity / (rest * rest);
-    if params.convection > 0.0 {
+    let mut rate = heat.diffusivity / (rest * rest);
+    if heat.convection > 0.0 {
         // The hotter end's heat climbs if the cooler end is above it.
         let (hot, cold) = if temperature[a] >= temperature[b] {
             (a, b)
         } else {
             (b, a)
         };
-        let rise = (position[cold] - position[hot])
-            .normalize_or_zero()
-            .dot(params.up);
-        rate += params.convection * rise.max(0.0);
+        let rise = (position[cold] - position[hot]).normalize_or_zero().dot(up);
+        rate += heat.convection * rise.max(0.0);
     }
     Some((a, b, rate))
 }
 
 /// The largest stable, non-overshooting explicit step for the exchange terms, s (infinite
 /// when nothing exchanges heat). `scratch` is reused.
+#[allow(clippy::too_many_arguments)]
 pub fn conduction_stable_step(
     springs: &Springs,
     position: &[Vec3],
     mass: &[f32],
     temperature: &[f32],
     state: &[BurnState],
-    params: &ConductionParams,
+    heat: &PhysicalHeat,
+    up: Vec3,
     scratch: &mut Vec<f32>,
 ) -> f32 {
     scratch.clear();
     scratch.resize(mass.len(), 0.0);
     for s in 0..springs.len() {
-        if let Some((a, b, rate)) = exchange_rate(springs, s, position, temperature, state, params)
+        if let Some((a, b, rate)) =
+            exchange_rate(springs, s, position, temperature, state, heat, up)
         {
             let shared = 0.5 * (mass[a] + mass[b]);
             scratch[a] += rate * shared / mass[a];
@@ -132,27 +114,37 @@ pub fn conduction_step(
     mass: &[f32],
     temperature: &mut [f32],
     state: &[BurnState],
-    params: &ConductionParams,
+    heat: &PhysicalHeat,
+    air: Air,
     delta: &mut Vec<f32>,
     h: f32,
 ) -> u32 {
     if !(h.is_finite() && h > 0.0) {
         return 0;
     }
-    let stable = conduction_stable_step(springs, position, mass, temperature, state, params, delta);
+    let stable = conduction_stable_step(
+        springs,
+        position,
+        mass,
+        temperature,
+        state,
+        heat,
+        air.up,
+        delta,
+    );
     let substeps = if stable.is_finite() {
         ((h / (0.9 * stable)).ceil() as u32).clamp(1, 1000)
     } else {
         1
     };
     let sub_h = h / substeps as f32;
-    let keep = (-params.cooling * sub_h).exp();
+    let keep = (-heat.cooling * sub_h).exp();
     for _ in 0..substeps {
         delta.clear();
         delta.resize(temperature.len(), 0.0);
         for s in 0..springs.len() {
             if let Some((a, b, rate)) =
-                exchange_rate(springs, s, position, temperature, state, params)
+                exchange_rate(springs, s, position, temperature, state, heat, air.up)
             {
                 let flux = rate * 0.5 * (mass[a] + mass[b]) * (temperature[b] - temperature[a]);
                 delta[a] += flux;
@@ -166,9 +158,9 @@ pub fn conduction_step(
             // A step past the stable limit (the 1000 cap) is clamped to stay monotone.
             let mut t = temperature[i] + sub_h * delta[i] / mass[i];
             if state[i].is_ignited() {
-                t += params.combustion_heating * sub_h;
+                t += heat.burn_heating * sub_h;
             }
-            t = params.air_temperature + (t - params.air_temperature) * keep;
+            t = air.temperature + (t - air.temperature) * keep;
             if t.is_finite() {
                 temperature[i] = t.min(MAX_TEMPERATURE);
             }
@@ -189,15 +181,19 @@ mod tests {
             .unwrap()
     }
 
-    fn diffusion_only(diffusivity: f32) -> ConductionParams {
-        ConductionParams {
+    fn diffusion_only(diffusivity: f32) -> PhysicalHeat {
+        PhysicalHeat {
             diffusivity,
             convection: 0.0,
             cooling: 0.0,
-            combustion_heating: 0.0,
-            ..ConductionParams::default()
+            burn_heating: 0.0,
         }
     }
+
+    const AIR: Air = Air {
+        temperature: 20.0,
+        up: Vec3::Y,
+    };
 
     /// Insulated edges, no burning, no cooling: Σ mᵢTᵢ is conserved, with convection too.
     #[test]
@@ -209,7 +205,7 @@ mod tests {
             .collect();
         let mut mass = p.mass.clone();
         mass[3] *= 4.0;
-        let params = ConductionParams {
+        let params = PhysicalHeat {
             convection: 3.0,
             ..diffusion_only(1e-3)
         };
@@ -229,6 +225,7 @@ mod tests {
                 &mut temperature,
                 &p.state,
                 &params,
+                AIR,
                 &mut delta,
                 1.0 / 60.0,
             );
@@ -267,6 +264,7 @@ mod tests {
                 &mut temperature,
                 &p.state,
                 &params,
+                AIR,
                 &mut delta,
                 t_end / steps as f32,
             );
@@ -296,7 +294,7 @@ mod tests {
         let burnt = 2 * 5 + 3;
         state[burnt] = BurnState::Burnt;
         temperature[burnt] = 5.0;
-        let params = ConductionParams {
+        let params = PhysicalHeat {
             convection: 5.0,
             ..diffusion_only(1e-4)
         };
@@ -308,6 +306,7 @@ mod tests {
             &mut temperature,
             &state,
             &params,
+            AIR,
             &mut delta,
             0.05,
         );
@@ -330,6 +329,7 @@ mod tests {
             &mut temperature,
             &p.state,
             &diffusion_only(1e-3),
+            AIR,
             &mut delta,
             0.1,
         );

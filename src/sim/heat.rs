@@ -71,11 +71,12 @@ pub struct HeatParams {
     pub proximity_rate: f32,
     /// The physical model's parameters, when the cloth uses it instead of the push model
     /// (proximity heating then still applies).
-    pub physical: Option<super::conduction::ConductionParams>,
+    pub physical: Option<super::settings::PhysicalHeat>,
 }
 
 impl HeatParams {
-    /// Parameters from a material, with world up `+Y` and the given proximity radius.
+    /// Parameters from a material, with world up `+Y`, the given proximity radius and the
+    /// paper's model.
     pub fn from_material(material: &BurnMaterial, proximity_radius: f32) -> Self {
         Self {
             spread_rate: material.heat_spread_rate,

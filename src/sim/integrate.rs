@@ -103,7 +103,8 @@ impl IntegratorWorkspace {
 
 /// Advances free, unburnt particles by one step of size `h` seconds.
 ///
-/// External forces in `particles.external_force` are applied for this step and then cleared.
+/// External forces in `particles.external_force` act throughout the step; the caller clears
+/// them (a cloth's step clears them after its last substep).
 pub fn integrate(
     integrator: Integrator,
     particles: &mut Particles,
@@ -155,7 +156,6 @@ pub fn integrate(
                 force,
             };
             rk4_step(&model, position, velocity, inv_mass, stages, h);
-            external_force.fill(Vec3::ZERO);
             return;
         }
         Integrator::Xpbd => {
@@ -168,7 +168,6 @@ pub fn integrate(
                 force,
                 h,
             );
-            external_force.fill(Vec3::ZERO);
             return;
         }
         _ => {}
@@ -189,7 +188,6 @@ pub fn integrate(
             }
         }
     }
-    external_force.fill(Vec3::ZERO);
 }
 
 /// RK4's scratch buffers, borrowed from the workspace.

@@ -1,58 +1,72 @@
 //! The simulation: plain Rust over `glam` and slices, no ECS.
 //!
-//! Everything here can be driven without an `App`; tests, the headless example, benchmarks
-//! and reports call it directly, and the ECS systems in [`crate::plugin`] are thin wrappers
-//! around the phase functions in [`cloth`].
+//! Everything here can be driven without an `App`. One step of one cloth is defined once, in
+//! [`step`]: [`ClothMut::step`] runs pins, heat, combustion, dynamics and culling in that
+//! order. [`ClothSim`] owns a cloth and runs it (tests, the headless example, reports); the
+//! plugin runs the same function on each cloth entity's components.
 //!
 //! | module | what it holds |
 //! |---|---|
+//! | [`step`] | the order of one step's phases, [`StepInputs`], [`StepReport`] |
+//! | [`cloth`] | [`ClothSim`]: a cloth that owns its data and steps itself |
+//! | [`settings`] | [`SolverSettings`], [`HeatModel`], [`Environment`], [`ClothSettings`] |
+//! | [`derived`] | parameters derived from the settings, once per change |
+//! | [`workspace`] | a cloth's scratch memory, reused every step |
 //! | [`material`] | [`BurnMaterial`] presets (the paper's Figure 2) and validation |
 //! | [`particles`] | [`Particles`], a structure of arrays, and [`BurnState`] |
 //! | [`springs`] | [`Springs`] stored once each, Hooke's law with damping |
 //! | [`grid`] | [`ClothBuilder`]: grid particles, 12 springs per particle, triangles, pins |
 //! | [`mesh_cloth`] | [`MeshClothBuilder`]: cloth from any triangle mesh, welded, with [`MeshPins`] |
-//! | [`guard`] | the blow-up guard: NaN and runaway particles are put back |
 //! | [`forces`] | gravity, springs, air drag, external forces |
 //! | [`integrate`] | explicit Euler, symplectic Euler, Verlet, RK4, XPBD; the stability limit |
 //! | [`provot`] | Provot's stretch correction |
+//! | [`collision`] | sphere, capsule and plane colliders |
+//! | [`guard`] | the blow-up guard: NaN and runaway particles are put back |
 //! | [`heat`] | the paper's upward-biased heat push and proximity heating |
 //! | [`conduction`] | the physical heat model: conduction, convection, cooling, burning |
-//! | [`collision`] | sphere, capsule and plane colliders |
-//! | [`combustion`] | ignition, burning, rest-length shrink, extinguishing |
 //! | [`heat_sources`] | heat from torches, fireballs and other cloths' fires |
 //! | [`spatial_hash`] | the O(n) neighbour search behind proximity heating |
+//! | [`combustion`] | ignition, burning, rest-length shrink, extinguishing |
+//! | [`ignition`] | raising a particle to an ignition temperature |
 //! | [`topology`] | triangles and culling of burnt ones |
 //! | [`pieces`] | connected pieces of a cloth and which have burnt loose from every pin |
-//! | [`cloth`] | one step as phases, and [`ClothSim`] that runs them all |
+//! | [`energy`] | a cloth's mechanical energy |
 //!
 //! Units: metres, kilograms, seconds, degrees Celsius.
 //!
 //! Where its accuracy ends: the default heat model is the paper's (heat only grows, fire
-//! follows world up by fixed weights; [`HeatModel::PHYSICAL`] is a heat equation instead); the explicit integrators need substeps for stiff cloth, which
-//! [`SolverSettings`] picks from the stability limit (up to 64) unless told otherwise, and
-//! XPBD trades accuracy for unconditional stability (see the README's stability matrix).
+//! follows world up by fixed weights; [`HeatModel::PHYSICAL`] is a heat equation instead);
+//! the explicit integrators need substeps for stiff cloth, which [`SolverSettings`] picks
+//! from the stability limit (up to 64) unless told otherwise, and XPBD trades accuracy for
+//! unconditional stability (see the README's stability matrix).
 
 pub mod cloth;
 pub mod collision;
 pub mod combustion;
 pub mod conduction;
+pub mod derived;
+pub mod energy;
 pub mod error;
 pub mod forces;
 pub mod grid;
 pub mod guard;
 pub mod heat;
 pub mod heat_sources;
+pub mod ignition;
 pub mod integrate;
 pub mod material;
 pub mod mesh_cloth;
 pub mod particles;
 pub mod pieces;
 pub mod provot;
+pub mod settings;
 pub mod spatial_hash;
 pub mod springs;
+pub mod step;
 pub mod topology;
+pub mod workspace;
 
-pub use cloth::{ClothSim, ClothWorkspace, Environment, HeatModel, SolverSettings, StepReport};
+pub use cloth::ClothSim;
 pub use collision::{ColliderShape, WorldCollider};
 pub use combustion::CombustionReport;
 pub use error::ClothError;
@@ -66,6 +80,12 @@ pub use mesh_cloth::{MeshClothBuilder, MeshPins, PinRule};
 pub use particles::{BurnState, Particles};
 pub use pieces::{DetachedPiece, PieceTracker, Pieces};
 pub use provot::ProvotSettings;
+pub use settings::{
+    ClothSettings, Environment, HeatModel, PhysicalHeat, SolverSettings,
+    UNCONDITIONAL_AUTO_SUBSTEPS,
+};
 pub use spatial_hash::SpatialHash;
 pub use springs::{SpringCoefficients, SpringKind, Springs};
+pub use step::{ClothMut, StepInputs, StepOutcome, StepReport};
 pub use topology::{GridShape, Topology};
+pub use workspace::ClothWorkspace;

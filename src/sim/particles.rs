@@ -50,7 +50,7 @@ pub struct Particles {
     /// at `transform × anchor` every step, so pins follow the cloth entity.
     pub anchor: Vec<Vec3>,
     /// Forces added from outside the solver for the next step, N (gameplay forces, wind
-    /// gusts). The integrator adds them once and clears them.
+    /// gusts). They act throughout the next step (every substep) and are cleared after it.
     pub external_force: Vec<Vec3>,
 }
 

@@ -56,6 +56,9 @@ impl Pieces {
         self.label.resize(n, u32::MAX);
         self.pinned.clear();
         self.size.clear();
+        // There are never more pieces than particles: reserve once, never grow mid-burn.
+        self.pinned.reserve(n);
+        self.size.reserve(n);
         for i in 0..n {
             if particles.state[i] == BurnState::Burnt {
                 continue;
@@ -105,6 +108,15 @@ pub struct PieceTracker {
 }
 
 impl PieceTracker {
+    /// Heap memory held, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        let p = &self.pieces;
+        (p.label.capacity() + p.size.capacity() + p.parent.capacity()) * size_of::<u32>()
+            + p.pinned.capacity()
+            + self.loose.capacity()
+            + self.sums.capacity() * size_of::<(Vec3, u32, bool)>()
+    }
+
     /// Whether the tracker has seen a cloth of `particles` particles (false before the first
     /// [`PieceTracker::update`], or after a rebuild changed the count).
     pub fn tracks(&self, particles: usize) -> bool {
@@ -133,6 +145,8 @@ impl PieceTracker {
         }
         self.pieces.find(particles, springs);
         self.sums.clear();
+        self.sums.reserve(n);
+        detached.reserve(n);
         self.sums
             .resize(self.pieces.count(), (Vec3::ZERO, 0, false));
         for i in 0..n {

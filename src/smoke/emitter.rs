@@ -30,7 +30,7 @@ pub struct BurningCloth<'a> {
 
 impl<'a> BurningCloth<'a> {
     /// The burning state of a cloth's parts; `newly_burnt` lists the particles that burnt
-    /// away in the latest step (`ClothWorkspace::newly_burnt`).
+    /// away in the latest step (`StepOutcome::newly_burnt`).
     pub fn new(
         particles: &'a Particles,
         material: &BurnMaterial,
@@ -52,9 +52,9 @@ impl<'a> BurningCloth<'a> {
     pub fn of(sim: &'a ClothSim) -> Self {
         Self::new(
             &sim.particles,
-            &sim.material,
+            sim.material(),
             &sim.topology,
-            &sim.workspace.newly_burnt,
+            sim.newly_burnt(),
         )
     }
 

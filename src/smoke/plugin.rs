@@ -4,7 +4,7 @@ use super::emitter::{Air, BurningCloth, SmokeSim};
 use super::pool::SmokePool;
 use super::settings::{SmokeSettings, SmokeSettingsError};
 use crate::plugin::{
-    BurningClothSystems, ClothEnvironment, ClothParticles, ClothScratch, ClothTopology,
+    BurningClothSystems, ClothEnvironment, ClothInUse, ClothParticles, ClothTopology, HoldDespawn,
 };
 use bevy::ecs::intern::Interned;
 use bevy::ecs::schedule::ScheduleLabel;
@@ -69,14 +69,16 @@ impl SmokeEmitter {
     }
 }
 
-/// The smoke systems, after [`BurningClothSystems::Cull`] in the simulation's schedule.
+/// The smoke systems, after [`BurningClothSystems::Report`] in the simulation's schedule.
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SmokeSystems;
 
 /// Flames, smoke and embers from every burning cloth (feature `smoke`). Part of
 /// `BurningClothPlugins`. Gives every cloth a [`SmokeEmitter`], emits and moves particles in
-/// the simulation's schedule. Its systems run only while some entity has an emitter.
-/// `SmokeRenderPlugin` (feature `render`, also in the group) draws them.
+/// the simulation's schedule. Its systems run only while some entity has an emitter. While a
+/// cloth's smoke is still in the air, the cloth holds [`HoldDespawn`], so
+/// `DespawnWhenBurntAway` waits for its last particle. `SmokeRenderPlugin` (feature `render`,
+/// also in the group) draws them.
 pub struct SmokePlugin {
     /// The schedule the simulation steps in.
     pub schedule: Interned<dyn ScheduleLabel>,
@@ -96,7 +98,7 @@ impl Plugin for SmokePlugin {
             .configure_sets(
                 self.schedule,
                 SmokeSystems
-                    .after(BurningClothSystems::Cull)
+                    .after(BurningClothSystems::Report)
                     .run_if(any_with_component::<SmokeEmitter>)
                     .run_if(crate::plugin::simulation_is_running)
                     .before(crate::plugin::consume_pending_step),
@@ -128,33 +130,35 @@ fn emit_smoke(
     mut emitters: Query<(
         &mut SmokeEmitter,
         &ClothParticles,
-        &ClothScratch,
+        &ClothInUse,
         &ClothTopology,
     )>,
 ) {
     let air = air(&environment);
-    for (mut emitter, particles, scratch, topology) in &mut emitters {
-        let cloth = BurningCloth::new(
-            particles,
-            &scratch.material,
-            topology,
-            &scratch.workspace.newly_burnt,
-        );
+    for (mut emitter, particles, in_use, topology) in &mut emitters {
+        let cloth = BurningCloth::new(particles, in_use.material(), topology, in_use.newly_burnt());
         emitter.sim.emit(&cloth, &air, time.delta_secs());
     }
 }
 
-/// Moves every emitter's live particles, on cloths or not.
+/// Moves every emitter's live particles, on cloths or not, and holds the entity of an
+/// emitter with particles in the air ([`HoldDespawn`]) until the last one has died.
 fn advance_smoke(
     time: Res<Time>,
     environment: Res<ClothEnvironment>,
-    mut emitters: Query<&mut SmokeEmitter>,
+    mut commands: Commands,
+    mut emitters: Query<(Entity, &mut SmokeEmitter, Has<HoldDespawn>)>,
 ) {
     let air = air(&environment);
-    for mut emitter in &mut emitters {
-        if emitter.sim.pool.is_empty() {
-            continue;
+    for (entity, mut emitter, held) in &mut emitters {
+        if !emitter.sim.pool.is_empty() {
+            emitter.sim.advance(&air, time.delta_secs());
         }
-        emitter.sim.advance(&air, time.delta_secs());
+        let in_the_air = !emitter.sim.pool.is_empty();
+        if in_the_air && !held {
+            commands.entity(entity).try_insert(HoldDespawn);
+        } else if !in_the_air && held {
+            commands.entity(entity).try_remove::<HoldDespawn>();
+        }
     }
 }

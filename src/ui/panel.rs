@@ -6,12 +6,13 @@ use super::params::{
     SUBSTEPS, WIND,
 };
 use crate::plugin::{
-    ClothEnvironment, ClothParticles, ClothScratch, ClothSimulationControl, ClothSolver,
+    ClothEnvironment, ClothInUse, ClothParticles, ClothSimulationControl, ClothSolver,
     ClothSprings, ClothStatus, ClothStepTiming, ClothTopology, Extinguish, Ignite,
 };
 use crate::render::{BurningClothMaterial, ClickToIgnite};
 use crate::sim::{
-    BurnMaterial, BurnState, ClothBuilder, HeatModel, Integrator, ProvotSettings, SpringKind,
+    BurnMaterial, BurnState, ClothBuilder, HeatModel, Integrator, PhysicalHeat, ProvotSettings,
+    SpringKind,
 };
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
@@ -34,7 +35,7 @@ pub(super) struct PanelParams<'w, 's> {
             Option<&'static Name>,
             Option<&'static BurnMaterial>,
             Option<&'static ClothSolver>,
-            &'static ClothScratch,
+            &'static ClothInUse,
             &'static ClothParticles,
             &'static ClothSprings,
             &'static ClothTopology,
@@ -168,7 +169,7 @@ fn actions(ui: &mut egui::Ui, p: &mut PanelParams) {
 }
 
 fn statistics(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
-    let Ok((_, _, _, _, scratch, particles, springs, topology, status)) = p.cloths.get(entity)
+    let Ok((_, _, _, _, in_use, particles, springs, topology, status)) = p.cloths.get(entity)
     else {
         return;
     };
@@ -185,12 +186,12 @@ fn statistics(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
             let stretch = springs.max_stretch(&particles.position, &particles.state, |k| {
                 k == SpringKind::Structural
             });
-            let energy = crate::sim::cloth::cloth_energy(
+            let energy = crate::sim::energy::cloth_energy(
                 particles,
                 springs,
-                &scratch.material,
+                in_use.material(),
                 topology,
-                &p.environment,
+                in_use.environment(),
             );
             egui::Grid::new("cloth statistics")
                 .num_columns(2)
@@ -285,12 +286,14 @@ fn views(ui: &mut egui::Ui, p: &mut PanelParams) {
 }
 
 fn parameters(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
-    let Ok((_, _, material, solver, scratch, ..)) = p.cloths.get(entity) else {
+    let Ok((_, _, material, solver, cloth, ..)) = p.cloths.get(entity) else {
         return;
     };
+    // The components hold the latest edit (possibly not yet taken into use); start from them
+    // so an edit in progress is not reset every frame.
     let in_use = PanelValues {
-        material: material.copied().unwrap_or(scratch.material),
-        solver: solver.map_or(scratch.solver, |s| s.0),
+        material: material.copied().unwrap_or(*cloth.material()),
+        solver: solver.map_or(*cloth.solver(), |s| s.0),
         environment: p.environment.0,
     };
     let mut edited = in_use;
@@ -383,7 +386,7 @@ fn solver_widgets(ui: &mut egui::Ui, solver: &mut crate::sim::SolverSettings) {
             );
             ui.add(egui::Slider::new(&mut settings.passes, PROVOT_PASSES).text("passes"));
         }
-        let mut physical = matches!(solver.heat_model, HeatModel::Physical { .. });
+        let mut physical = matches!(solver.heat_model, HeatModel::Physical(_));
         if ui.checkbox(&mut physical, "physical heat model").changed() {
             solver.heat_model = if physical {
                 HeatModel::PHYSICAL
@@ -391,12 +394,12 @@ fn solver_widgets(ui: &mut egui::Ui, solver: &mut crate::sim::SolverSettings) {
                 HeatModel::Paper
             };
         }
-        if let HeatModel::Physical {
+        if let HeatModel::Physical(PhysicalHeat {
             diffusivity,
             convection,
             cooling,
             burn_heating,
-        } = &mut solver.heat_model
+        }) = &mut solver.heat_model
         {
             ui.add(
                 egui::Slider::new(diffusivity, PHYSICAL_HEAT[0].clone())

@@ -2,7 +2,7 @@
 //! takes into a cloth: clamp to the panel's ranges (a NaN keeps the previous value), then the
 //! same validation as the builder. Plain Rust, testable without egui or an `App`.
 
-use crate::sim::{BurnMaterial, Environment, HeatModel, SolverSettings};
+use crate::sim::{BurnMaterial, Environment, HeatModel, PhysicalHeat, SolverSettings};
 use std::ops::RangeInclusive;
 
 /// One editable number of a struct: label, unit, allowed range, slider scale, and where it
@@ -151,12 +151,7 @@ pub struct PanelValues {
 /// The parameters of a physical heat model, in [`PHYSICAL_HEAT`] order.
 fn physical_parts(model: HeatModel) -> Option<[f32; 4]> {
     match model {
-        HeatModel::Physical {
-            diffusivity,
-            convection,
-            cooling,
-            burn_heating,
-        } => Some([diffusivity, convection, cooling, burn_heating]),
+        HeatModel::Physical(heat) => Some(heat.to_array()),
         HeatModel::Paper => None,
     }
 }
@@ -195,22 +190,14 @@ impl PanelValues {
         if let Some(substeps) = &mut self.solver.substeps {
             *substeps = (*substeps).clamp(*SUBSTEPS.start(), *SUBSTEPS.end());
         }
-        if let HeatModel::Physical {
-            diffusivity,
-            convection,
-            cooling,
-            burn_heating,
-        } = &mut self.solver.heat_model
-        {
-            let fallback = physical_parts(old.solver.heat_model)
-                .or(physical_parts(HeatModel::PHYSICAL))
-                .unwrap_or_default();
-            for (i, value) in [diffusivity, convection, cooling, burn_heating]
-                .into_iter()
-                .enumerate()
-            {
+        if let HeatModel::Physical(heat) = &mut self.solver.heat_model {
+            let fallback =
+                physical_parts(old.solver.heat_model).unwrap_or(PhysicalHeat::GAME.to_array());
+            let mut values = heat.to_array();
+            for (i, value) in values.iter_mut().enumerate() {
                 *value = clamp_or(*value, &PHYSICAL_HEAT[i], fallback[i]);
             }
+            *heat = PhysicalHeat::from_array(values);
         }
         clamp_vec(&mut self.environment.wind, &WIND, old.environment.wind);
         clamp_vec(

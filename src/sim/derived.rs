@@ -1,0 +1,58 @@
+//! Parameters derived from a cloth's settings and shape: computed once when the material,
+//! the solver or the environment change, never inside a step.
+
+use super::forces::ForceParams;
+use super::heat::HeatParams;
+use super::material::BurnMaterial;
+use super::settings::{ClothSettings, Environment, HeatModel};
+use super::springs::SpringCoefficients;
+use super::topology::Topology;
+
+/// What the phases of a step read besides the cloth itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DerivedParams {
+    /// Gravity, wind, drag and spring coefficients.
+    pub force: ForceParams,
+    /// The heat model's rates, world up and proximity reach.
+    pub heat: HeatParams,
+}
+
+impl DerivedParams {
+    /// Derives every parameter from validated `settings` for a cloth of this `topology`.
+    pub fn new(settings: &ClothSettings, topology: &Topology) -> Self {
+        Self {
+            force: force_params(&settings.material, topology, &settings.environment),
+            heat: heat_params(settings, topology),
+        }
+    }
+}
+
+/// Force parameters of a cloth for a material and environment: drag per unit mass from the
+/// material's drag per area and areal density, spring damping from its damping ratio and the
+/// cloth's typical particle mass.
+pub fn force_params(
+    material: &BurnMaterial,
+    topology: &Topology,
+    environment: &Environment,
+) -> ForceParams {
+    ForceParams {
+        gravity: environment.gravity,
+        wind: environment.wind,
+        drag_per_mass: material.air_drag / material.areal_density,
+        coefficients: SpringCoefficients::from_material(material, topology.particle_mass),
+    }
+}
+
+/// Heat parameters of a cloth: the material's rates, the proximity reach from the solver's
+/// factor and the cloth's spacing, world up, and the physical model's parameters if chosen.
+pub fn heat_params(settings: &ClothSettings, topology: &Topology) -> HeatParams {
+    let mut params = HeatParams::from_material(
+        &settings.material,
+        settings.solver.proximity_radius_factor * topology.spacing,
+    );
+    params.up = settings.environment.unit_up();
+    if let HeatModel::Physical(physical) = settings.solver.heat_model {
+        params.physical = Some(physical);
+    }
+    params
+}

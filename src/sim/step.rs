@@ -1,0 +1,315 @@
+//! One step of one cloth: the order of the phases, defined here and nowhere else.
+//!
+//! [`ClothMut::step`] advances a cloth by one fixed step of `dt` seconds:
+//!
+//! 1. **pins** follow the cloth's transform (so heating sees the cloth where it is);
+//! 2. **heat**: the cloth's heat model (the paper's push or the physical model, with
+//!    proximity heating across folds), then heat sources (torches, fireballs) and the burning
+//!    particles of other cloths;
+//! 3. **combustion**: ignition and burning by temperature, spans over burnt particles cut,
+//!    rest lengths shrink, pieces that lost every pin found;
+//! 4. **dynamics**: `substeps` × (integrate, Provot's correction, colliders); external forces
+//!    act for the whole step and are cleared after it; the blow-up guard puts back particles
+//!    that went non-finite or ran away;
+//! 5. **culling**: the index list keeps the triangles with three unburnt particles.
+//!
+//! [`ClothSim`](super::ClothSim) runs it on a cloth it owns; the plugin runs it on each cloth
+//! entity's components. Both give bit-identical results for the same inputs.
+
+use super::collision::{WorldCollider, resolve_collisions};
+use super::combustion::{CombustionReport, shrink_rest_lengths, update_burn_states};
+use super::conduction::{Air, conduction_step};
+use super::heat::{paper_heat_step, proximity_heat_step};
+use super::heat_sources::{
+    HashedHeatSources, WorldHeatSource, apply_hashed_heat_sources, apply_heat_sources,
+    unburnt_bounds,
+};
+use super::integrate::{drive_pins, integrate};
+use super::particles::{BurnState, Particles};
+use super::pieces::DetachedPiece;
+use super::provot::{ProvotReport, provot_correct};
+use super::settings::ClothSettings;
+use super::springs::Springs;
+use super::topology::{Topology, cull_triangles};
+use super::workspace::ClothWorkspace;
+use glam::{Affine3A, Vec3};
+
+/// The world as one cloth's step sees it.
+#[derive(Clone, Copy, Debug)]
+pub struct StepInputs<'a> {
+    /// The step, s.
+    pub dt: f32,
+    /// Where the cloth's anchors are placed: pins go to `transform × anchor`.
+    pub transform: Affine3A,
+    /// Colliders in world space.
+    pub colliders: &'a [WorldCollider],
+    /// Heat sources in world space (torches, fireballs).
+    pub heat_sources: &'a [WorldHeatSource],
+    /// The burning particles of every cloth, hashed; this cloth's own (`owner`) are skipped.
+    pub fire_spread: Option<&'a HashedHeatSources>,
+    /// This cloth's id among the owners in `fire_spread`.
+    pub owner: u64,
+}
+
+impl<'a> StepInputs<'a> {
+    /// A step of `dt` seconds with the cloth placed by `transform`, and nothing around it.
+    pub fn new(dt: f32, transform: Affine3A) -> Self {
+        Self {
+            dt,
+            transform,
+            colliders: &[],
+            heat_sources: &[],
+            fire_spread: None,
+            owner: WorldHeatSource::NO_OWNER,
+        }
+    }
+}
+
+/// What one step did, in numbers.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepReport {
+    /// Substeps run.
+    pub substeps: u32,
+    /// Combustion changes.
+    pub combustion: CombustionReport,
+    /// Provot's report from the last substep, if enabled.
+    pub provot: Option<ProvotReport>,
+    /// Particles the blow-up guard had to put back.
+    pub repaired: u32,
+    /// Particles burnt away in total, after the step.
+    pub burnt: u32,
+    /// Pinned particles not burnt, after the step.
+    pub pins_left: u32,
+    /// Triangles drawn, after the step.
+    pub live_triangles: u32,
+}
+
+/// What the latest step did: its report, the particles that burnt away in it and the pieces
+/// that came loose in it. Kept until the next step.
+#[derive(Clone, Debug, Default)]
+pub struct StepOutcome {
+    /// The numbers.
+    pub report: StepReport,
+    pub(crate) newly_burnt: Vec<u32>,
+    pub(crate) detached: Vec<DetachedPiece>,
+}
+
+impl StepOutcome {
+    /// Indices of the particles that burnt away in the latest step.
+    pub fn newly_burnt(&self) -> &[u32] {
+        &self.newly_burnt
+    }
+
+    /// Pieces that lost their last pin in the latest step.
+    pub fn detached(&self) -> &[DetachedPiece] {
+        &self.detached
+    }
+
+    /// Heap memory held, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        self.newly_burnt.capacity() * size_of::<u32>()
+            + self.detached.capacity() * size_of::<DetachedPiece>()
+    }
+}
+
+/// One cloth, borrowed: what [`ClothMut::step`] reads and writes. The plugin builds it from a
+/// cloth entity's components, [`ClothSim`](super::ClothSim) from its fields.
+pub struct ClothMut<'a> {
+    /// Particles.
+    pub particles: &'a mut Particles,
+    /// Springs.
+    pub springs: &'a mut Springs,
+    /// Triangles and scale.
+    pub topology: &'a mut Topology,
+    /// The validated settings in use.
+    pub settings: &'a ClothSettings,
+    /// Derived parameters and scratch memory.
+    pub workspace: &'a mut ClothWorkspace,
+    /// What the step did.
+    pub outcome: &'a mut StepOutcome,
+}
+
+impl ClothMut<'_> {
+    /// Advances the cloth by one step: pins, heat, combustion, dynamics, culling (see the
+    /// [module docs](self)). A step that is not finite and positive does nothing.
+    pub fn step(&mut self, inputs: &StepInputs) {
+        self.outcome.newly_burnt.clear();
+        self.outcome.detached.clear();
+        if !(inputs.dt.is_finite() && inputs.dt > 0.0) {
+            self.outcome.report = StepReport::default();
+            return;
+        }
+        self.drive_pins(inputs);
+        self.heat(inputs);
+        let combustion = self.combust(inputs.dt);
+        let (substeps, provot, repaired) = self.dynamics(inputs);
+        self.cull();
+        self.outcome.report = StepReport {
+            substeps,
+            combustion,
+            provot,
+            repaired,
+            burnt: self.particles.count(BurnState::Burnt) as u32,
+            pins_left: self.particles.pins_left() as u32,
+            live_triangles: self.topology.live_triangle_count() as u32,
+        };
+    }
+
+    /// Phase 1: pins follow the transform (a non-finite transform leaves them where they are).
+    fn drive_pins(&mut self, inputs: &StepInputs) {
+        let affine = inputs.transform;
+        if affine.matrix3.is_finite() && affine.translation.is_finite() {
+            drive_pins(self.particles, affine, inputs.dt);
+        }
+    }
+
+    /// Phase 2: the cloth's heat model, then heat sources and other cloths' fires.
+    fn heat(&mut self, inputs: &StepInputs) {
+        let h = inputs.dt;
+        let particles = &mut *self.particles;
+        let params = &self.workspace.derived.heat;
+        let workspace = &mut self.workspace.heat;
+        match &params.physical {
+            None => paper_heat_step(
+                self.springs,
+                &particles.position,
+                &mut particles.temperature,
+                &particles.state,
+                params,
+                workspace,
+                h,
+            ),
+            Some(physical) => {
+                let air = Air {
+                    temperature: params.initial_temperature,
+                    up: params.up,
+                };
+                conduction_step(
+                    self.springs,
+                    &particles.position,
+                    &particles.mass,
+                    &mut particles.temperature,
+                    &particles.state,
+                    physical,
+                    air,
+                    &mut workspace.delta,
+                    h,
+                );
+                proximity_heat_step(
+                    &particles.position,
+                    &mut particles.temperature,
+                    &particles.state,
+                    params,
+                    workspace,
+                    h,
+                );
+            }
+        }
+        if !inputs.heat_sources.is_empty()
+            && let Some(bounds) = unburnt_bounds(&particles.position, &particles.state)
+        {
+            apply_heat_sources(
+                &particles.position,
+                &mut particles.temperature,
+                &particles.state,
+                bounds,
+                inputs.heat_sources,
+                h,
+            );
+        }
+        if let Some(spread) = inputs.fire_spread
+            && !spread.sources.is_empty()
+        {
+            apply_hashed_heat_sources(
+                &particles.position,
+                &mut particles.temperature,
+                &particles.state,
+                inputs.owner,
+                spread,
+                h,
+            );
+        }
+    }
+
+    /// Phase 3: burn states from temperatures; spans over newly burnt particles cut; rest
+    /// lengths shrink by `h` seconds of heat; pieces that lost every pin are found.
+    fn combust(&mut self, h: f32) -> CombustionReport {
+        let particles = &mut *self.particles;
+        let newly_burnt = &mut self.outcome.newly_burnt;
+        // Room for every particle once, so a big burn never reallocates mid-game.
+        newly_burnt.reserve(particles.len());
+        let material = &self.settings.material;
+        let report = update_burn_states(
+            &particles.temperature,
+            &mut particles.state,
+            material,
+            newly_burnt,
+        );
+        if !newly_burnt.is_empty() {
+            self.springs.sever_spanning(&particles.state);
+        }
+        shrink_rest_lengths(
+            self.springs,
+            &particles.temperature,
+            &particles.state,
+            material,
+            &self.workspace.derived.force.coefficients,
+            h,
+        );
+        let pieces = &mut self.workspace.pieces;
+        if !newly_burnt.is_empty() || !pieces.tracks(particles.len()) {
+            pieces.update(particles, self.springs, &mut self.outcome.detached);
+        }
+        report
+    }
+
+    /// Phase 4: the substeps and the blow-up guard. Returns the substeps run, Provot's report
+    /// from the last substep and the particles put back.
+    fn dynamics(&mut self, inputs: &StepInputs) -> (u32, Option<ProvotReport>, u32) {
+        let solver = &self.settings.solver;
+        let stable = self.workspace.stable_step(self.particles, self.springs);
+        let substeps = solver.substeps_for(inputs.dt, stable);
+        let h = inputs.dt / substeps as f32;
+        let workspace = &mut *self.workspace;
+        workspace.guard.remember(self.particles);
+        let margin = solver.collision_margin_factor * self.topology.spacing;
+        let mut provot = None;
+        for _ in 0..substeps {
+            integrate(
+                solver.integrator,
+                self.particles,
+                self.springs,
+                &workspace.derived.force,
+                &mut workspace.integrator,
+                h,
+            );
+            provot = solver.provot.map(|settings| {
+                provot_correct(
+                    self.particles,
+                    self.springs,
+                    &settings,
+                    &mut workspace.provot,
+                    h,
+                )
+            });
+            resolve_collisions(self.particles, inputs.colliders, margin);
+        }
+        self.particles.external_force.fill(Vec3::ZERO);
+        let repaired = workspace.guard.check(
+            self.particles,
+            &solver.guard,
+            self.settings.material.initial_temperature,
+        );
+        (substeps, provot, repaired)
+    }
+
+    /// Phase 5: the live index list from burn states.
+    fn cull(&mut self) {
+        let topology = &mut *self.topology;
+        cull_triangles(
+            &topology.triangles,
+            &self.particles.state,
+            &mut topology.live_indices,
+        );
+    }
+}

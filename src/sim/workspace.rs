@@ -1,0 +1,85 @@
+//! One cloth's private working memory: derived parameters and every scratch buffer the
+//! phases reuse, so stepping does not allocate after the first steps.
+
+use super::derived::DerivedParams;
+use super::guard::BlowUpGuard;
+use super::heat::HeatWorkspace;
+use super::integrate::{IntegratorWorkspace, stable_time_step};
+use super::particles::Particles;
+use super::pieces::PieceTracker;
+use super::provot::ProvotWorkspace;
+use super::settings::ClothSettings;
+use super::springs::Springs;
+use super::topology::Topology;
+
+/// Scratch memory and derived parameters of one cloth. Made by [`ClothWorkspace::new`] when
+/// the cloth is built and told about settings changes by [`ClothWorkspace::settings_changed`].
+#[derive(Clone, Debug)]
+pub struct ClothWorkspace {
+    /// Parameters derived from the settings in use.
+    pub(crate) derived: DerivedParams,
+    pub(crate) integrator: IntegratorWorkspace,
+    pub(crate) provot: ProvotWorkspace,
+    pub(crate) heat: HeatWorkspace,
+    pub(crate) guard: BlowUpGuard,
+    pub(crate) pieces: PieceTracker,
+    /// The cloth's stable symplectic step, s, computed on first use after a material change.
+    stable_step: Option<f32>,
+}
+
+impl ClothWorkspace {
+    /// A workspace for a cloth of this `topology` stepped with validated `settings`.
+    pub fn new(settings: &ClothSettings, topology: &Topology) -> Self {
+        Self {
+            derived: DerivedParams::new(settings, topology),
+            integrator: IntegratorWorkspace::default(),
+            provot: ProvotWorkspace::default(),
+            heat: HeatWorkspace::default(),
+            guard: BlowUpGuard::default(),
+            pieces: PieceTracker::default(),
+            stable_step: None,
+        }
+    }
+
+    /// Re-derives the parameters after the settings changed (`material_changed` also forgets
+    /// the cached stable step, which depends on stiffness).
+    pub fn settings_changed(
+        &mut self,
+        settings: &ClothSettings,
+        topology: &Topology,
+        material_changed: bool,
+    ) {
+        self.derived = DerivedParams::new(settings, topology);
+        if material_changed {
+            self.stable_step = None;
+        }
+    }
+
+    /// The parameters derived from the settings in use.
+    pub fn derived(&self) -> &DerivedParams {
+        &self.derived
+    }
+
+    /// The cloth's stable symplectic step (s), computed once per material and cached. Masses
+    /// and springs changed from outside (not by burning) need [`Self::forget_stable_step`].
+    pub fn stable_step(&mut self, particles: &Particles, springs: &Springs) -> f32 {
+        let coefficients = &self.derived.force.coefficients;
+        *self
+            .stable_step
+            .get_or_insert_with(|| stable_time_step(particles, springs, coefficients))
+    }
+
+    /// Forgets the cached stable step (after masses or springs were edited by hand).
+    pub fn forget_stable_step(&mut self) {
+        self.stable_step = None;
+    }
+
+    /// Heap memory held by every buffer, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        self.integrator.heap_bytes()
+            + self.provot.heap_bytes()
+            + self.heat.heap_bytes()
+            + self.guard.heap_bytes()
+            + self.pieces.heap_bytes()
+    }
+}
