@@ -68,6 +68,27 @@ impl BlowUpGuard {
         }
     }
 
+    /// Resets non-finite temperatures to `initial_temperature` (when the guard is enabled) and
+    /// returns how many there were. [`Self::check`] does this too; solvers that check their
+    /// particles themselves call this for the temperatures.
+    pub fn repair_temperatures(
+        particles: &mut Particles,
+        settings: &GuardSettings,
+        initial_temperature: f32,
+    ) -> u32 {
+        if !settings.enabled || particles.temperature.iter().all(|t| t.is_finite()) {
+            return 0;
+        }
+        let mut repaired = 0;
+        for t in &mut particles.temperature {
+            if !t.is_finite() {
+                *t = initial_temperature;
+                repaired += 1;
+            }
+        }
+        repaired
+    }
+
     /// Repairs blown-up particles and returns how many were repaired.
     pub fn check(
         &self,

@@ -12,8 +12,10 @@
 //! placed by [`drive_pins`], burnt particles have left the simulation.
 
 use super::forces::{ForceModel, ForceParams};
+use super::guard::GuardSettings;
 use super::particles::Particles;
 use super::springs::{SpringCoefficients, Springs};
+use super::xpbd::{Surroundings, XpbdSolver};
 use glam::{Affine3A, Vec3};
 
 /// Which integrator advances the cloth.
@@ -80,13 +82,15 @@ impl Integrator {
 #[derive(Clone, Debug, Default)]
 pub struct IntegratorWorkspace {
     force: Vec<Vec3>,
-    /// RK4 stage state and sums; XPBD previous positions (in `stage_position`).
+    /// RK4 stage state and sums.
     stage_position: Vec<Vec3>,
     stage_velocity: Vec<Vec3>,
     sum_velocity: Vec<Vec3>,
     sum_acceleration: Vec<Vec3>,
     /// Step size the velocities are staggered for when they hold leapfrog half-step values.
     staggered_for: Option<f32>,
+    /// The XPBD solver's state.
+    pub(crate) xpbd: XpbdSolver,
 }
 
 impl IntegratorWorkspace {
@@ -98,13 +102,56 @@ impl IntegratorWorkspace {
             + self.sum_velocity.capacity()
             + self.sum_acceleration.capacity())
             * size_of::<Vec3>()
+            + self.xpbd.heap_bytes()
+    }
+}
+
+/// Leapfrog keeps velocities half a step behind positions. Entering it (or changing `h`)
+/// shifts them by the difference of half-kicks; leaving it shifts them back.
+fn shift_stagger(
+    integrator: Integrator,
+    particles: &mut Particles,
+    springs: &Springs,
+    params: &ForceParams,
+    workspace: &mut IntegratorWorkspace,
+    h: f32,
+) {
+    let wanted_stagger = (integrator == Integrator::Verlet).then_some(h);
+    if workspace.staggered_for == wanted_stagger {
+        return;
+    }
+    let shift = workspace.staggered_for.unwrap_or(0.0) - wanted_stagger.unwrap_or(0.0);
+    workspace.staggered_for = wanted_stagger;
+    let n = particles.len();
+    workspace.force.resize(n, Vec3::ZERO);
+    let Particles {
+        position,
+        velocity,
+        mass,
+        inv_mass,
+        state,
+        external_force,
+        ..
+    } = particles;
+    let model = ForceModel {
+        mass,
+        state,
+        external: external_force,
+        springs,
+        params,
+    };
+    model.eval(position, velocity, &mut workspace.force);
+    for i in (0..n).filter(|&i| inv_mass[i] != 0.0 && !state[i].is_burnt()) {
+        velocity[i] += 0.5 * shift * workspace.force[i] * inv_mass[i];
     }
 }
 
 /// Advances free, unburnt particles by one step of size `h` seconds.
 ///
 /// External forces in `particles.external_force` act throughout the step; the caller clears
-/// them (a cloth's step clears them after its last substep).
+/// them (a cloth's step clears them after its last substep). XPBD runs through
+/// [`XpbdSolver`] with one substep, no collider and no guard (a cloth's step calls the solver
+/// itself for all its substeps at once).
 pub fn integrate(
     integrator: Integrator,
     particles: &mut Particles,
@@ -113,6 +160,22 @@ pub fn integrate(
     workspace: &mut IntegratorWorkspace,
     h: f32,
 ) {
+    shift_stagger(integrator, particles, springs, params, workspace, h);
+    if integrator == Integrator::Xpbd {
+        let around = Surroundings {
+            params,
+            colliders: &[],
+            margin: 0.0,
+            guard: GuardSettings {
+                enabled: false,
+                ..GuardSettings::default()
+            },
+        };
+        workspace
+            .xpbd
+            .advance(particles, springs, None, &around, h, 1);
+        return;
+    }
     let n = particles.len();
     workspace.force.resize(n, Vec3::ZERO);
     let Particles {
@@ -133,19 +196,6 @@ pub fn integrate(
     };
     let force = &mut workspace.force;
     let moves = |i: usize| inv_mass[i] != 0.0 && !state[i].is_burnt();
-
-    // Leapfrog keeps velocities half a step behind positions. Entering it (or changing h)
-    // shifts them by the difference of half-kicks; leaving it shifts them back.
-    let wanted_stagger = (integrator == Integrator::Verlet).then_some(h);
-    if workspace.staggered_for != wanted_stagger {
-        let shift = workspace.staggered_for.unwrap_or(0.0) - wanted_stagger.unwrap_or(0.0);
-        model.eval(position, velocity, force);
-        for i in (0..n).filter(|&i| moves(i)) {
-            velocity[i] += 0.5 * shift * force[i] * inv_mass[i];
-        }
-        workspace.staggered_for = wanted_stagger;
-    }
-
     match integrator {
         Integrator::Rk4 => {
             let stages = Rk4Buffers {
@@ -158,18 +208,7 @@ pub fn integrate(
             rk4_step(&model, position, velocity, inv_mass, stages, h);
             return;
         }
-        Integrator::Xpbd => {
-            xpbd_step(
-                &model,
-                position,
-                velocity,
-                inv_mass,
-                &mut workspace.stage_position,
-                force,
-                h,
-            );
-            return;
-        }
+        Integrator::Xpbd => unreachable!("handled above"),
         _ => {}
     }
     model.eval(position, velocity, force);
@@ -245,64 +284,6 @@ fn rk4_step(
     for i in (0..n).filter(|&i| moves(i)) {
         position[i] += h / 6.0 * sum_velocity[i];
         velocity[i] += h / 6.0 * sum_acceleration[i];
-    }
-}
-
-/// One XPBD substep: external forces move velocities, positions are predicted, each live
-/// spring is projected once as a compliant distance constraint with Macklin's damping, and
-/// velocities are taken from the position change.
-fn xpbd_step(
-    model: &ForceModel,
-    position: &mut [Vec3],
-    velocity: &mut [Vec3],
-    inv_mass: &[f32],
-    previous: &mut Vec<Vec3>,
-    force: &mut [Vec3],
-    h: f32,
-) {
-    let n = position.len();
-    let state = model.state;
-    let moves = |i: usize| inv_mass[i] != 0.0 && !state[i].is_burnt();
-    model.eval_without_springs(velocity, force);
-    previous.clear();
-    previous.extend_from_slice(position);
-    for i in (0..n).filter(|&i| moves(i)) {
-        velocity[i] += h * force[i] * inv_mass[i];
-        position[i] += h * velocity[i];
-    }
-    let springs = model.springs;
-    let coefficients = &model.params.coefficients;
-    for s in 0..springs.len() {
-        let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
-        if state[a].is_burnt() || state[b].is_burnt() {
-            continue;
-        }
-        let w_a = if moves(a) { inv_mass[a] } else { 0.0 };
-        let w_b = if moves(b) { inv_mass[b] } else { 0.0 };
-        let kind = springs.kind[s] as usize;
-        let stiffness = coefficients.stiffness[kind];
-        if w_a + w_b <= 0.0 || stiffness <= 0.0 {
-            continue;
-        }
-        let delta = position[a] - position[b];
-        let length = delta.length();
-        if length <= 1e-9 {
-            continue;
-        }
-        let normal = delta / length;
-        let constraint = length - springs.rest_length[s];
-        // Compliance α = 1/k scaled by the step; damping γ = α β / h with β the spring's
-        // damping coefficient (Macklin et al. 2016, eq. 26).
-        let compliance = 1.0 / (stiffness * h * h);
-        let gamma = coefficients.damping[kind] / (stiffness * h);
-        let rate = normal.dot((position[a] - previous[a]) - (position[b] - previous[b]));
-        let delta_lambda =
-            (-constraint - gamma * rate) / ((1.0 + gamma) * (w_a + w_b) + compliance);
-        position[a] += w_a * delta_lambda * normal;
-        position[b] -= w_b * delta_lambda * normal;
-    }
-    for i in (0..n).filter(|&i| moves(i)) {
-        velocity[i] = (position[i] - previous[i]) / h;
     }
 }
 

@@ -19,6 +19,7 @@
 //! | [`mesh_cloth`] | [`MeshClothBuilder`]: cloth from any triangle mesh, welded, with [`MeshPins`] |
 //! | [`forces`] | gravity, springs, air drag, external forces |
 //! | [`integrate`] | explicit Euler, symplectic Euler, Verlet, RK4, XPBD; the stability limit |
+//! | [`xpbd`] | the XPBD solver: springs as constraints in vectorised runs |
 //! | [`provot`] | Provot's stretch correction |
 //! | [`collision`] | sphere, capsule and plane colliders |
 //! | [`guard`] | the blow-up guard: NaN and runaway particles are put back |
@@ -65,6 +66,7 @@ pub mod springs;
 pub mod step;
 pub mod topology;
 pub mod workspace;
+pub mod xpbd;
 
 pub use cloth::ClothSim;
 pub use collision::{ColliderShape, WorldCollider};

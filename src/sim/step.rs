@@ -19,12 +19,13 @@
 use super::collision::{WorldCollider, resolve_collisions};
 use super::combustion::{CombustionReport, shrink_rest_lengths, update_burn_states};
 use super::conduction::{Air, conduction_step};
+use super::guard::BlowUpGuard;
 use super::heat::{paper_heat_step, proximity_heat_step};
 use super::heat_sources::{
     HashedHeatSources, WorldHeatSource, apply_hashed_heat_sources, apply_heat_sources,
     unburnt_bounds,
 };
-use super::integrate::{drive_pins, integrate};
+use super::integrate::{Integrator, drive_pins, integrate};
 use super::particles::{BurnState, Particles};
 use super::pieces::DetachedPiece;
 use super::provot::{ProvotReport, provot_correct};
@@ -32,6 +33,7 @@ use super::settings::ClothSettings;
 use super::springs::Springs;
 use super::topology::{Topology, cull_triangles};
 use super::workspace::ClothWorkspace;
+use super::xpbd::Surroundings;
 use glam::{Affine3A, Vec3};
 
 /// The world as one cloth's step sees it.
@@ -271,8 +273,31 @@ impl ClothMut<'_> {
         let substeps = solver.substeps_for(inputs.dt, stable);
         let h = inputs.dt / substeps as f32;
         let workspace = &mut *self.workspace;
-        workspace.guard.remember(self.particles);
         let margin = solver.collision_margin_factor * self.topology.spacing;
+        if solver.integrator == Integrator::Xpbd {
+            let around = Surroundings {
+                params: &workspace.derived.force,
+                colliders: inputs.colliders,
+                margin,
+                guard: solver.guard,
+            };
+            let moved = workspace.integrator.xpbd.advance(
+                self.particles,
+                self.springs,
+                self.topology.grid,
+                &around,
+                h,
+                substeps,
+            );
+            let heated = BlowUpGuard::repair_temperatures(
+                self.particles,
+                &solver.guard,
+                self.settings.material.initial_temperature,
+            );
+            self.particles.external_force.fill(Vec3::ZERO);
+            return (substeps, None, moved + heated);
+        }
+        workspace.guard.remember(self.particles);
         let mut provot = None;
         for _ in 0..substeps {
             integrate(

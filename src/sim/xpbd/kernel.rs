@@ -1,0 +1,292 @@
+//! Projecting springs as compliant distance constraints, many at a time.
+//!
+//! For a spring between `a` and `b` with rest length `L`, stiffness `k` and damping `c`, one
+//! XPBD projection in a substep of `h` seconds (Macklin et al. 2016, eqs. 18 and 26) moves the
+//! ends by
+//!
+//! `Δλ = −(C + γ Ċh) / ((1 + γ)(w_a + w_b) + α̃)`, `Δx_a = w_a Δλ n`, `Δx_b = −w_b Δλ n`
+//!
+//! with `C = |x_a − x_b| − L`, `n` the unit vector from `b` to `a`, `α̃ = 1/(k h²)`,
+//! `γ = c/(k h)` and `Ċh = n · (Δx_a − Δx_b)` the constraint's change over the substep so far.
+//! The per-spring factors `w/((1 + γ)(w_a + w_b) + α̃)` are computed once (they change only
+//! with masses, pins, burning and the step) and passed in as `ca`, `cb`; a dead spring has
+//! both zero.
+//!
+//! A particle's position is split into where it was at the start of the substep, `x`, and how
+//! far it has moved since, `u` (both f32): the prediction sets `u = h v`, corrections add to
+//! `u`, and the new velocity is `u / h`. Small corrections keep all their digits however small
+//! the step (the old form `v = (x_new − x_old) / h` lost them to round-off), and the
+//! constraint's change over the substep, `u_a − u_b`, needs no velocity.
+//!
+//! Two shapes of loop: a lane, whose element `k` joins slot `a + k` to slot `b + k` (every
+//! family of a grid, see [`lanes`](super::lanes)), written four elements at a time with no
+//! branch so the compiler turns it into SIMD instructions; and springs with ends by index
+//! (meshes).
+
+/// The multiplier `s` of one projection: `u_a += ca s e`, `u_b −= cb s e` with `e = p_a − p_b`.
+///
+/// `e`: current end-to-end vector; `r`: displacement of `a` minus displacement of `b` over the
+/// substep so far (`u_a − u_b`).
+#[inline(always)]
+fn multiplier(e: [f32; 3], r: [f32; 3], rest: f32, gamma: f32) -> f32 {
+    let length = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+    let inverse = 1.0 / length.max(1e-9);
+    let violation = length - rest;
+    let rate = (e[0] * r[0] + e[1] * r[1] + e[2] * r[2]) * inverse;
+    -(violation + gamma * rate) * inverse
+}
+
+/// Particle arrays for one kernel call: positions at the start of the substep `x` and the
+/// displacements since `u` (three components each), all of one length.
+pub(crate) struct Arrays<'a> {
+    pub x: [&'a [f32]; 3],
+    pub u: [&'a mut [f32]; 3],
+}
+
+/// Per-spring data of one run: rest lengths and the two correction factors.
+#[derive(Clone, Copy)]
+pub(crate) struct RunData<'a> {
+    pub rest: &'a [f32],
+    pub ca: &'a [f32],
+    pub cb: &'a [f32],
+    pub gamma: f32,
+}
+
+/// Four lanes of `f32`, which the compiler keeps in one SIMD register.
+type F4 = [f32; 4];
+
+#[inline(always)]
+fn load(slice: &[f32], at: usize) -> F4 {
+    let mut out = [0.0; 4];
+    out.copy_from_slice(&slice[at..at + 4]);
+    out
+}
+
+#[inline(always)]
+fn store(slice: &mut [f32], at: usize, value: F4) {
+    slice[at..at + 4].copy_from_slice(&value);
+}
+
+#[inline(always)]
+fn zip(a: F4, b: F4, f: impl Fn(f32, f32) -> f32) -> F4 {
+    [f(a[0], b[0]), f(a[1], b[1]), f(a[2], b[2]), f(a[3], b[3])]
+}
+
+/// One element's projection on scalars (the tail of a lane, or a lane whose ends are closer
+/// than four slots).
+#[inline(always)]
+fn project_one(
+    x: [&[f32]; 3],
+    u: &mut [&mut [f32]; 3],
+    a: usize,
+    b: usize,
+    data: (f32, f32, f32),
+    gamma: f32,
+) {
+    let (rest, ca, cb) = data;
+    let r: [f32; 3] = core::array::from_fn(|i| u[i][a] - u[i][b]);
+    let e: [f32; 3] = core::array::from_fn(|i| (x[i][a] - x[i][b]) + r[i]);
+    let s = multiplier(e, r, rest, gamma);
+    for i in 0..3 {
+        u[i][a] += ca * s * e[i];
+        u[i][b] -= cb * s * e[i];
+    }
+}
+
+/// A lane: element `k < len` joins slot `a + k` to slot `b + k`, elements in order. Four
+/// elements are projected at a time when the ends are at least four slots apart (no two of the
+/// four touch the same particle); otherwise one at a time.
+pub(crate) fn project_lane(arrays: &mut Arrays, a: usize, b: usize, len: usize, data: RunData) {
+    let [xx, xy, xz] = arrays.x;
+    let end = a.max(b) + len;
+    let x = [&xx[..end], &xy[..end], &xz[..end]];
+    let [ux, uy, uz] = &mut arrays.u;
+    let mut u = [&mut ux[..end], &mut uy[..end], &mut uz[..end]];
+    let (rest, ca, cb) = (&data.rest[..len], &data.ca[..len], &data.cb[..len]);
+    let gamma = data.gamma;
+    let chunks = if a.abs_diff(b) >= 4 { len / 4 } else { 0 };
+    for chunk in 0..chunks {
+        let k = 4 * chunk;
+        let (ia, ib) = (a + k, b + k);
+        let r: [F4; 3] =
+            core::array::from_fn(|i| zip(load(u[i], ia), load(u[i], ib), |p, q| p - q));
+        let e: [F4; 3] = core::array::from_fn(|i| {
+            let d = zip(load(x[i], ia), load(x[i], ib), |p, q| p - q);
+            zip(d, r[i], |p, q| p + q)
+        });
+        let (rest4, ca4, cb4) = (load(rest, k), load(ca, k), load(cb, k));
+        let s: F4 = core::array::from_fn(|l| {
+            multiplier(
+                [e[0][l], e[1][l], e[2][l]],
+                [r[0][l], r[1][l], r[2][l]],
+                rest4[l],
+                gamma,
+            )
+        });
+        let sa = zip(ca4, s, |p, q| p * q);
+        let sb = zip(cb4, s, |p, q| p * q);
+        for i in 0..3 {
+            let ua = zip(load(u[i], ia), zip(sa, e[i], |p, q| p * q), |p, q| p + q);
+            store(u[i], ia, ua);
+            let ub = zip(load(u[i], ib), zip(sb, e[i], |p, q| p * q), |p, q| p - q);
+            store(u[i], ib, ub);
+        }
+    }
+    for k in 4 * chunks..len {
+        project_one(x, &mut u, a + k, b + k, (rest[k], ca[k], cb[k]), gamma);
+    }
+}
+
+/// Springs with arbitrary ends (`a[k]`, `b[k]`), one after another: meshes.
+pub(crate) fn project_indexed(arrays: &mut Arrays, a: &[u32], b: &[u32], data: RunData) {
+    let n = data.rest.len();
+    let (a, b) = (&a[..n], &b[..n]);
+    let (rest, ca, cb) = (&data.rest[..n], &data.ca[..n], &data.cb[..n]);
+    let gamma = data.gamma;
+    let [xx, xy, xz] = arrays.x;
+    let [ux, uy, uz] = &mut arrays.u;
+    for k in 0..n {
+        let (a, b) = (a[k] as usize, b[k] as usize);
+        let r = [ux[a] - ux[b], uy[a] - uy[b], uz[a] - uz[b]];
+        let e = [
+            (xx[a] - xx[b]) + r[0],
+            (xy[a] - xy[b]) + r[1],
+            (xz[a] - xz[b]) + r[2],
+        ];
+        let s = multiplier(e, r, rest[k], gamma);
+        let (sa, sb) = (ca[k] * s, cb[k] * s);
+        ux[a] += sa * e[0];
+        uy[a] += sa * e[1];
+        uz[a] += sa * e[2];
+        ux[b] -= sb * e[0];
+        uy[b] -= sb * e[1];
+        uz[b] -= sb * e[2];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The textbook projection of one spring, written out with vectors.
+    fn reference(
+        pa: glam::Vec3,
+        pb: glam::Vec3,
+        moved: glam::Vec3,
+        rest: f32,
+        (wa, wb, alpha, gamma): (f32, f32, f32, f32),
+    ) -> (glam::Vec3, glam::Vec3) {
+        let delta = pa - pb;
+        let n = delta.normalize();
+        let c = delta.length() - rest;
+        let dl = (-c - gamma * n.dot(moved)) / ((1.0 + gamma) * (wa + wb) + alpha);
+        (wa * dl * n, -wb * dl * n)
+    }
+
+    #[test]
+    fn every_loop_shape_matches_the_textbook_projection() {
+        // Six particles in a row, each already moved a little this substep (`u`); springs
+        // (0,3), (1,4), (2,5) over disjoint stretches, both ways round, and through indices.
+        let xs = [0.0f32, 0.11, 0.19, 0.33, 0.38, 0.52];
+        let x: [Vec<f32>; 3] = [
+            xs.to_vec(),
+            vec![0.0, 0.01, -0.02, 0.0, 0.03, 0.0],
+            vec![0.0; 6],
+        ];
+        let u0: [Vec<f32>; 3] = [
+            vec![0.001, -0.002, 0.0, 0.003, 0.0, -0.001],
+            vec![0.0; 6],
+            vec![0.0005; 6],
+        ];
+        let (wa, wb, alpha, gamma) = (2.0f32, 0.5f32, 0.3f32, 0.2f32);
+        let den = (1.0 + gamma) * (wa + wb) + alpha;
+        let rest = [0.3f32, 0.25, 0.35];
+        let (ca, cb) = ([wa / den; 3], [wb / den; 3]);
+        let data = RunData {
+            rest: &rest,
+            ca: &ca,
+            cb: &cb,
+            gamma,
+        };
+        let at = |a: &[Vec<f32>; 3], i: usize| glam::Vec3::new(a[0][i], a[1][i], a[2][i]);
+        let check = |u: &[Vec<f32>; 3], pairs: [(usize, usize); 3]| {
+            for (k, (a, b)) in pairs.into_iter().enumerate() {
+                let moved = at(&u0, a) - at(&u0, b);
+                let (pa, pb) = (at(&x, a) + at(&u0, a), at(&x, b) + at(&u0, b));
+                let (da, db) = reference(pa, pb, moved, rest[k], (wa, wb, alpha, gamma));
+                let (ua, ub) = (at(u, a) - at(&u0, a), at(u, b) - at(&u0, b));
+                assert!((ua - da).length() < 1e-6, "{pairs:?} {k}: {ua} vs {da}");
+                assert!((ub - db).length() < 1e-6, "{pairs:?} {k}: {ub} vs {db}");
+            }
+        };
+        let run = |f: &dyn Fn(&mut Arrays)| {
+            let mut u = u0.clone();
+            let [u_x, u_y, u_z] = &mut u;
+            f(&mut Arrays {
+                x: [&x[0], &x[1], &x[2]],
+                u: [u_x, u_y, u_z],
+            });
+            u
+        };
+        check(
+            &run(&|a| project_lane(a, 0, 3, 3, data)),
+            [(0, 3), (1, 4), (2, 5)],
+        );
+        check(
+            &run(&|a| project_lane(a, 3, 0, 3, data)),
+            [(3, 0), (4, 1), (5, 2)],
+        );
+        check(
+            &run(&|a| project_indexed(a, &[5, 0, 2], &[1, 3, 4], data)),
+            [(5, 1), (0, 3), (2, 4)],
+        );
+    }
+
+    #[test]
+    fn a_lane_four_at_a_time_matches_the_same_springs_one_by_one() {
+        // A chain of 16 particles; lanes join each to the one `gap` further on. With a gap of
+        // at least 4 the lane goes four elements at a time, each reading what the elements
+        // before it wrote; with a smaller gap it goes one at a time. Both must equal the
+        // springs projected one by one in order.
+        let n = 16;
+        let x: [Vec<f32>; 3] = [
+            (0..n)
+                .map(|i| 0.1 * i as f32 + 0.003 * (i % 3) as f32)
+                .collect(),
+            (0..n).map(|i| 0.01 * (i % 5) as f32).collect(),
+            vec![0.0; n],
+        ];
+        let u0: [Vec<f32>; 3] = [
+            (0..n).map(|i| 1e-3 * (i % 4) as f32).collect(),
+            vec![-2e-4; n],
+            (0..n).map(|i| 5e-4 * (i % 2) as f32).collect(),
+        ];
+        for gap in [1usize, 3, 4, 5, 8] {
+            let len = n - gap;
+            let rest: Vec<f32> = (0..len)
+                .map(|k| 0.09 * gap as f32 + 0.001 * k as f32)
+                .collect();
+            let (ca, cb) = (vec![0.4f32; len], vec![0.3f32; len]);
+            let data = RunData {
+                rest: &rest,
+                ca: &ca,
+                cb: &cb,
+                gamma: 0.15,
+            };
+            let run = |f: &dyn Fn(&mut Arrays)| {
+                let mut u = u0.clone();
+                let [u_x, u_y, u_z] = &mut u;
+                f(&mut Arrays {
+                    x: [&x[0], &x[1], &x[2]],
+                    u: [u_x, u_y, u_z],
+                });
+                u
+            };
+            let a: Vec<u32> = (0..len as u32).collect();
+            let b: Vec<u32> = (gap as u32..n as u32).collect();
+            let one_by_one = run(&|arrays| project_indexed(arrays, &a, &b, data));
+            let lane = run(&|arrays| project_lane(arrays, 0, gap, len, data));
+            assert_eq!(lane, one_by_one, "gap {gap}");
+        }
+    }
+}
