@@ -249,7 +249,6 @@ fn the_physical_heat_model_burns_a_cloth_away() {
 /// upper part stays.
 #[test]
 fn a_piece_burnt_loose_falls_while_the_pinned_part_stays() {
-    use bevy_burning_cloth::sim::PieceTracker;
     let columns = 10;
     let mut sim = ClothSim::new(
         &ClothBuilder::grid(columns, 10, 0.05).pin_top_edge(),
@@ -261,15 +260,13 @@ fn a_piece_burnt_loose_falls_while_the_pinned_part_stays() {
     for _ in 0..120 {
         sim.step(1.0 / 60.0);
     }
+    assert!(sim.detached().is_empty());
     let row = |r: u32| (r * columns..(r + 1) * columns).map(|i| i as usize);
     let lower: Vec<usize> = (6..10).flat_map(row).collect();
     let upper: Vec<usize> = (0..5).flat_map(row).collect();
     let centroid = |sim: &ClothSim, set: &[usize]| {
         set.iter().map(|&i| sim.particles.position[i]).sum::<Vec3>() / set.len() as f32
     };
-    let mut tracker = PieceTracker::default();
-    let mut detached = Vec::new();
-    tracker.update(&sim.particles, &sim.springs, &mut detached);
     for i in row(5) {
         sim.particles.temperature[i] = BurnMaterial::COTTON.burnt_temperature + 100.0;
     }
@@ -281,12 +278,12 @@ fn a_piece_burnt_loose_falls_while_the_pinned_part_stays() {
     .unwrap();
     let (lower_start, upper_start) = (centroid(&sim, &lower), centroid(&sim, &upper));
     sim.step(1.0 / 60.0);
-    tracker.update(&sim.particles, &sim.springs, &mut detached);
-    assert_eq!(detached.len(), 1, "one piece came off");
-    assert_eq!(detached[0].particles, 40);
+    assert_eq!(sim.detached().len(), 1, "one piece came off");
+    assert_eq!(sim.detached()[0].particles, 40);
     let t = 0.5;
     for _ in 1..30 {
         sim.step(1.0 / 60.0);
+        assert!(sim.detached().is_empty(), "reported once");
     }
     let fall = lower_start.y - centroid(&sim, &lower).y;
     let c = BurnMaterial::COTTON.air_drag / BurnMaterial::COTTON.areal_density;

@@ -1,6 +1,7 @@
 //! [`ClothSim`]: one cloth with everything needed to step it, outside any ECS. Tests, tools,
 //! reports and headless programs drive it; it runs the same [`ClothMut::step`] as the plugin.
 
+use super::anchors::DetachedPiece;
 use super::collision::WorldCollider;
 use super::combustion::{extinguish, extinguished_temperature};
 use super::error::ClothError;
@@ -9,7 +10,6 @@ use super::heat_sources::WorldHeatSource;
 use super::ignition::{heat_particle, nearest_unburnt_particle};
 use super::material::BurnMaterial;
 use super::particles::Particles;
-use super::pieces::DetachedPiece;
 use super::settings::{ClothSettings, Environment, SolverSettings};
 use super::springs::Springs;
 use super::step::{ClothMut, StepInputs, StepOutcome, StepReport};
@@ -233,11 +233,20 @@ impl ClothSim {
         self.settings.solver.substeps_for(dt, stable)
     }
 
-    /// Advances the cloth by one fixed step of `dt` seconds through every phase.
+    /// Advances the cloth by one fixed step of `dt` seconds through every phase, on this
+    /// thread.
     pub fn step(&mut self, dt: f32) -> StepReport {
+        self.step_on(dt, None)
+    }
+
+    /// Advances the cloth by one fixed step of `dt` seconds, sharing a big cloth's work with
+    /// the threads of `pool` (with feature `parallel`). The result is the same on any number
+    /// of threads.
+    pub fn step_on(&mut self, dt: f32, pool: Option<&bevy::tasks::TaskPool>) -> StepReport {
         let inputs = StepInputs {
             colliders: &self.colliders,
             heat_sources: &self.heat_sources,
+            pool,
             ..StepInputs::new(dt, self.transform)
         };
         ClothMut {

@@ -170,6 +170,8 @@ pub fn integrate(
                 enabled: false,
                 ..GuardSettings::default()
             },
+            tethers: None,
+            pool: None,
         };
         workspace
             .xpbd

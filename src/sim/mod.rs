@@ -30,8 +30,9 @@
 //! | [`combustion`] | ignition, burning, rest-length shrink, extinguishing |
 //! | [`ignition`] | raising a particle to an ignition temperature |
 //! | [`topology`] | triangles and culling of burnt ones |
-//! | [`pieces`] | connected pieces of a cloth and which have burnt loose from every pin |
+//! | [`anchors`] | what each particle hangs from: nearest pin and distance through the cloth, kept up to date as it burns; pieces burnt loose |
 //! | [`energy`] | a cloth's mechanical energy |
+//! | [`parallel`] | work split over Bevy's task pool, the same result on any number of threads |
 //!
 //! Units: metres, kilograms, seconds, degrees Celsius.
 //!
@@ -41,6 +42,7 @@
 //! from the stability limit (up to 64) unless told otherwise, and XPBD trades accuracy for
 //! unconditional stability (see the README's stability matrix).
 
+pub mod anchors;
 pub mod cloth;
 pub mod collision;
 pub mod combustion;
@@ -57,8 +59,8 @@ pub mod ignition;
 pub mod integrate;
 pub mod material;
 pub mod mesh_cloth;
+pub mod parallel;
 pub mod particles;
-pub mod pieces;
 pub mod provot;
 pub mod settings;
 pub mod spatial_hash;
@@ -68,6 +70,7 @@ pub mod topology;
 pub mod workspace;
 pub mod xpbd;
 
+pub use anchors::{Anchors, DetachedPiece};
 pub use cloth::ClothSim;
 pub use collision::{ColliderShape, WorldCollider};
 pub use combustion::CombustionReport;
@@ -80,7 +83,6 @@ pub use integrate::Integrator;
 pub use material::{BurnMaterial, MaterialError};
 pub use mesh_cloth::{MeshClothBuilder, MeshPins, PinRule};
 pub use particles::{BurnState, Particles};
-pub use pieces::{DetachedPiece, PieceTracker, Pieces};
 pub use provot::ProvotSettings;
 pub use settings::{
     ClothSettings, Environment, HeatModel, PhysicalHeat, SolverSettings,

@@ -24,8 +24,14 @@ pub struct SolverSettings {
     pub max_substeps: u32,
     /// Fraction of the stability limit an automatic substep may use, in (0, 1].
     pub stability_safety: f32,
-    /// Provot's stretch limit, or `None` to turn it off.
+    /// Provot's stretch limit for the force-based integrators, or `None` to turn it off.
+    /// XPBD limits stretch with its constraints and [`Self::tether_stretch`] instead.
     pub provot: Option<ProvotSettings>,
+    /// XPBD's tethers (long-range attachments): no particle gets farther from the pin it
+    /// hangs from than its distance through the cloth times `1 + tether_stretch` (0.05 is
+    /// 5 %). They keep a long cloth from sagging past its springs' stretch when one
+    /// constraint pass per substep cannot carry its weight down; `None` turns them off.
+    pub tether_stretch: Option<f32>,
     /// Proximity heating radius as a multiple of the grid spacing; 0 turns it off.
     pub proximity_radius_factor: f32,
     /// Distance particles keep from colliders, as a multiple of the grid spacing.
@@ -44,6 +50,7 @@ impl Default for SolverSettings {
             max_substeps: 64,
             stability_safety: 0.8,
             provot: Some(ProvotSettings::default()),
+            tether_stretch: Some(0.05),
             proximity_radius_factor: 0.6,
             collision_margin_factor: 0.3,
             guard: GuardSettings::default(),
@@ -78,6 +85,11 @@ impl SolverSettings {
             && !(provot.max_stretch.is_finite() && provot.max_stretch >= 0.0)
         {
             return invalid("provot.max_stretch", provot.max_stretch);
+        }
+        if let Some(stretch) = self.tether_stretch
+            && !(stretch.is_finite() && stretch >= 0.0)
+        {
+            return invalid("tether_stretch", stretch);
         }
         self.heat_model.validate()
     }

@@ -7,7 +7,8 @@
 //!    proximity heating across folds), then heat sources (torches, fireballs) and the burning
 //!    particles of other cloths;
 //! 3. **combustion**: ignition and burning by temperature, spans over burnt particles cut,
-//!    rest lengths shrink, pieces that lost every pin found;
+//!    rest lengths shrink, what each particle hangs from brought up to date (pieces that lost
+//!    every pin found);
 //! 4. **dynamics**: `substeps` × (integrate, Provot's correction, colliders); external forces
 //!    act for the whole step and are cleared after it; the blow-up guard puts back particles
 //!    that went non-finite or ran away;
@@ -16,6 +17,7 @@
 //! [`ClothSim`](super::ClothSim) runs it on a cloth it owns; the plugin runs it on each cloth
 //! entity's components. Both give bit-identical results for the same inputs.
 
+use super::anchors::DetachedPiece;
 use super::collision::{WorldCollider, resolve_collisions};
 use super::combustion::{CombustionReport, shrink_rest_lengths, update_burn_states};
 use super::conduction::{Air, conduction_step};
@@ -27,7 +29,6 @@ use super::heat_sources::{
 };
 use super::integrate::{Integrator, drive_pins, integrate};
 use super::particles::{BurnState, Particles};
-use super::pieces::DetachedPiece;
 use super::provot::{ProvotReport, provot_correct};
 use super::settings::ClothSettings;
 use super::springs::Springs;
@@ -37,7 +38,7 @@ use super::xpbd::Surroundings;
 use glam::{Affine3A, Vec3};
 
 /// The world as one cloth's step sees it.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 pub struct StepInputs<'a> {
     /// The step, s.
     pub dt: f32,
@@ -51,6 +52,9 @@ pub struct StepInputs<'a> {
     pub fire_spread: Option<&'a HashedHeatSources>,
     /// This cloth's id among the owners in `fire_spread`.
     pub owner: u64,
+    /// Threads to share a big cloth's work with (Bevy's compute task pool), if any. The
+    /// result is the same with or without.
+    pub pool: Option<&'a bevy::tasks::TaskPool>,
 }
 
 impl<'a> StepInputs<'a> {
@@ -63,6 +67,7 @@ impl<'a> StepInputs<'a> {
             heat_sources: &[],
             fire_spread: None,
             owner: WorldHeatSource::NO_OWNER,
+            pool: None,
         }
     }
 }
@@ -240,6 +245,7 @@ impl ClothMut<'_> {
         let newly_burnt = &mut self.outcome.newly_burnt;
         // Room for every particle once, so a big burn never reallocates mid-game.
         newly_burnt.reserve(particles.len());
+        self.outcome.detached.reserve(particles.len());
         let material = &self.settings.material;
         let report = update_burn_states(
             &particles.temperature,
@@ -258,10 +264,12 @@ impl ClothMut<'_> {
             &self.workspace.derived.force.coefficients,
             h,
         );
-        let pieces = &mut self.workspace.pieces;
-        if !newly_burnt.is_empty() || !pieces.tracks(particles.len()) {
-            pieces.update(particles, self.springs, &mut self.outcome.detached);
-        }
+        self.workspace.anchors.update(
+            particles,
+            self.springs,
+            newly_burnt,
+            &mut self.outcome.detached,
+        );
         report
     }
 
@@ -280,8 +288,12 @@ impl ClothMut<'_> {
                 colliders: inputs.colliders,
                 margin,
                 guard: solver.guard,
+                tethers: solver
+                    .tether_stretch
+                    .map(|stretch| (&workspace.anchors, stretch)),
+                pool: inputs.pool,
             };
-            let moved = workspace.integrator.xpbd.advance(
+            let (moved, pins_changed) = workspace.integrator.xpbd.advance(
                 self.particles,
                 self.springs,
                 self.topology.grid,
@@ -289,6 +301,9 @@ impl ClothMut<'_> {
                 h,
                 substeps,
             );
+            if pins_changed {
+                workspace.anchors.invalidate();
+            }
             let heated = BlowUpGuard::repair_temperatures(
                 self.particles,
                 &solver.guard,

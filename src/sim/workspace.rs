@@ -1,12 +1,12 @@
 //! One cloth's private working memory: derived parameters and every scratch buffer the
 //! phases reuse, so stepping does not allocate after the first steps.
 
+use super::anchors::Anchors;
 use super::derived::DerivedParams;
 use super::guard::BlowUpGuard;
 use super::heat::HeatWorkspace;
 use super::integrate::{IntegratorWorkspace, stable_time_step};
 use super::particles::Particles;
-use super::pieces::PieceTracker;
 use super::provot::ProvotWorkspace;
 use super::settings::ClothSettings;
 use super::springs::Springs;
@@ -22,7 +22,7 @@ pub struct ClothWorkspace {
     pub(crate) provot: ProvotWorkspace,
     pub(crate) heat: HeatWorkspace,
     pub(crate) guard: BlowUpGuard,
-    pub(crate) pieces: PieceTracker,
+    pub(crate) anchors: Anchors,
     /// The cloth's stable symplectic step, s, computed on first use after a material change.
     stable_step: Option<f32>,
 }
@@ -36,7 +36,7 @@ impl ClothWorkspace {
             provot: ProvotWorkspace::default(),
             heat: HeatWorkspace::default(),
             guard: BlowUpGuard::default(),
-            pieces: PieceTracker::default(),
+            anchors: Anchors::default(),
             stable_step: None,
         }
     }
@@ -80,6 +80,6 @@ impl ClothWorkspace {
             + self.provot.heap_bytes()
             + self.heat.heap_bytes()
             + self.guard.heap_bytes()
-            + self.pieces.heap_bytes()
+            + self.anchors.heap_bytes()
     }
 }

@@ -72,68 +72,202 @@ fn zip(a: F4, b: F4, f: impl Fn(f32, f32) -> f32) -> F4 {
     [f(a[0], b[0]), f(a[1], b[1]), f(a[2], b[2]), f(a[3], b[3])]
 }
 
-/// One element's projection on scalars (the tail of a lane, or a lane whose ends are closer
-/// than four slots).
+/// The multipliers `(ca s, cb s)` of four elements from their end-to-end vectors `e` and
+/// relative displacements `r`, per axis.
 #[inline(always)]
-fn project_one(
+fn four(e: [F4; 3], r: [F4; 3], data: &RunData, k: usize) -> (F4, F4) {
+    let (rest, ca, cb) = (load(data.rest, k), load(data.ca, k), load(data.cb, k));
+    let mut sa = [0.0; 4];
+    let mut sb = [0.0; 4];
+    for l in 0..4 {
+        let el = [e[0][l], e[1][l], e[2][l]];
+        let rl = [r[0][l], r[1][l], r[2][l]];
+        let s = multiplier(el, rl, rest[l], data.gamma);
+        sa[l] = ca[l] * s;
+        sb[l] = cb[l] * s;
+    }
+    (sa, sb)
+}
+
+/// A lane whose two ends lie in separate arrays: element `k` joins `(xa, ua)[k]` to
+/// `(xb, ub)[k]`. Four elements at a time.
+pub(crate) fn project_split(
+    (xa, xb): ([&[f32]; 3], [&[f32]; 3]),
+    ua: &mut [&mut [f32]; 3],
+    ub: &mut [&mut [f32]; 3],
+    data: RunData,
+) {
+    let len = data.rest.len();
+    let [xa0, xa1, xa2] = xa.map(|s| &s[..len]);
+    let [xb0, xb1, xb2] = xb.map(|s| &s[..len]);
+    let [ua0, ua1, ua2] = ua;
+    let [ub0, ub1, ub2] = ub;
+    let (ua0, ua1, ua2) = (&mut ua0[..len], &mut ua1[..len], &mut ua2[..len]);
+    let (ub0, ub1, ub2) = (&mut ub0[..len], &mut ub1[..len], &mut ub2[..len]);
+    let chunks = len / 4;
+    for chunk in 0..chunks {
+        let k = 4 * chunk;
+        let (pa, pb) = (
+            [load(ua0, k), load(ua1, k), load(ua2, k)],
+            [load(ub0, k), load(ub1, k), load(ub2, k)],
+        );
+        let r = [
+            zip(pa[0], pb[0], |p, q| p - q),
+            zip(pa[1], pb[1], |p, q| p - q),
+            zip(pa[2], pb[2], |p, q| p - q),
+        ];
+        let e = [
+            zip(
+                zip(load(xa0, k), load(xb0, k), |p, q| p - q),
+                r[0],
+                |p, q| p + q,
+            ),
+            zip(
+                zip(load(xa1, k), load(xb1, k), |p, q| p - q),
+                r[1],
+                |p, q| p + q,
+            ),
+            zip(
+                zip(load(xa2, k), load(xb2, k), |p, q| p - q),
+                r[2],
+                |p, q| p + q,
+            ),
+        ];
+        let (sa, sb) = four(e, r, &data, k);
+        store(
+            ua0,
+            k,
+            zip(pa[0], zip(sa, e[0], |p, q| p * q), |p, q| p + q),
+        );
+        store(
+            ua1,
+            k,
+            zip(pa[1], zip(sa, e[1], |p, q| p * q), |p, q| p + q),
+        );
+        store(
+            ua2,
+            k,
+            zip(pa[2], zip(sa, e[2], |p, q| p * q), |p, q| p + q),
+        );
+        store(
+            ub0,
+            k,
+            zip(pb[0], zip(sb, e[0], |p, q| p * q), |p, q| p - q),
+        );
+        store(
+            ub1,
+            k,
+            zip(pb[1], zip(sb, e[1], |p, q| p * q), |p, q| p - q),
+        );
+        store(
+            ub2,
+            k,
+            zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
+        );
+    }
+    for k in 4 * chunks..len {
+        let r = [ua0[k] - ub0[k], ua1[k] - ub1[k], ua2[k] - ub2[k]];
+        let e = [
+            (xa0[k] - xb0[k]) + r[0],
+            (xa1[k] - xb1[k]) + r[1],
+            (xa2[k] - xb2[k]) + r[2],
+        ];
+        let s = multiplier(e, r, data.rest[k], data.gamma);
+        let (sa, sb) = (data.ca[k] * s, data.cb[k] * s);
+        (ua0[k], ua1[k], ua2[k]) = (ua0[k] + sa * e[0], ua1[k] + sa * e[1], ua2[k] + sa * e[2]);
+        (ub0[k], ub1[k], ub2[k]) = (ub0[k] - sb * e[0], ub1[k] - sb * e[1], ub2[k] - sb * e[2]);
+    }
+}
+
+/// A lane whose two ends lie in the same arrays: element `k` joins index `a + k` to index
+/// `b + k`. Four elements at a time when the ends are at least four apart (no two of the four
+/// touch the same particle), otherwise one at a time; in order either way.
+pub(crate) fn project_shared(
     x: [&[f32]; 3],
     u: &mut [&mut [f32]; 3],
     a: usize,
     b: usize,
-    data: (f32, f32, f32),
-    gamma: f32,
+    data: RunData,
 ) {
-    let (rest, ca, cb) = data;
-    let r: [f32; 3] = core::array::from_fn(|i| u[i][a] - u[i][b]);
-    let e: [f32; 3] = core::array::from_fn(|i| (x[i][a] - x[i][b]) + r[i]);
-    let s = multiplier(e, r, rest, gamma);
-    for i in 0..3 {
-        u[i][a] += ca * s * e[i];
-        u[i][b] -= cb * s * e[i];
-    }
-}
-
-/// A lane: element `k < len` joins slot `a + k` to slot `b + k`, elements in order. Four
-/// elements are projected at a time when the ends are at least four slots apart (no two of the
-/// four touch the same particle); otherwise one at a time.
-pub(crate) fn project_lane(arrays: &mut Arrays, a: usize, b: usize, len: usize, data: RunData) {
-    let [xx, xy, xz] = arrays.x;
+    let len = data.rest.len();
     let end = a.max(b) + len;
-    let x = [&xx[..end], &xy[..end], &xz[..end]];
-    let [ux, uy, uz] = &mut arrays.u;
-    let mut u = [&mut ux[..end], &mut uy[..end], &mut uz[..end]];
-    let (rest, ca, cb) = (&data.rest[..len], &data.ca[..len], &data.cb[..len]);
-    let gamma = data.gamma;
+    let [x0, x1, x2] = x.map(|s| &s[..end]);
+    let [u0, u1, u2] = u;
+    let (u0, u1, u2) = (&mut u0[..end], &mut u1[..end], &mut u2[..end]);
     let chunks = if a.abs_diff(b) >= 4 { len / 4 } else { 0 };
     for chunk in 0..chunks {
         let k = 4 * chunk;
         let (ia, ib) = (a + k, b + k);
-        let r: [F4; 3] =
-            core::array::from_fn(|i| zip(load(u[i], ia), load(u[i], ib), |p, q| p - q));
-        let e: [F4; 3] = core::array::from_fn(|i| {
-            let d = zip(load(x[i], ia), load(x[i], ib), |p, q| p - q);
-            zip(d, r[i], |p, q| p + q)
-        });
-        let (rest4, ca4, cb4) = (load(rest, k), load(ca, k), load(cb, k));
-        let s: F4 = core::array::from_fn(|l| {
-            multiplier(
-                [e[0][l], e[1][l], e[2][l]],
-                [r[0][l], r[1][l], r[2][l]],
-                rest4[l],
-                gamma,
-            )
-        });
-        let sa = zip(ca4, s, |p, q| p * q);
-        let sb = zip(cb4, s, |p, q| p * q);
-        for i in 0..3 {
-            let ua = zip(load(u[i], ia), zip(sa, e[i], |p, q| p * q), |p, q| p + q);
-            store(u[i], ia, ua);
-            let ub = zip(load(u[i], ib), zip(sb, e[i], |p, q| p * q), |p, q| p - q);
-            store(u[i], ib, ub);
-        }
+        let (pa, pb) = (
+            [load(u0, ia), load(u1, ia), load(u2, ia)],
+            [load(u0, ib), load(u1, ib), load(u2, ib)],
+        );
+        let r = [
+            zip(pa[0], pb[0], |p, q| p - q),
+            zip(pa[1], pb[1], |p, q| p - q),
+            zip(pa[2], pb[2], |p, q| p - q),
+        ];
+        let e = [
+            zip(
+                zip(load(x0, ia), load(x0, ib), |p, q| p - q),
+                r[0],
+                |p, q| p + q,
+            ),
+            zip(
+                zip(load(x1, ia), load(x1, ib), |p, q| p - q),
+                r[1],
+                |p, q| p + q,
+            ),
+            zip(
+                zip(load(x2, ia), load(x2, ib), |p, q| p - q),
+                r[2],
+                |p, q| p + q,
+            ),
+        ];
+        let (sa, sb) = four(e, r, &data, k);
+        store(
+            u0,
+            ia,
+            zip(pa[0], zip(sa, e[0], |p, q| p * q), |p, q| p + q),
+        );
+        store(
+            u1,
+            ia,
+            zip(pa[1], zip(sa, e[1], |p, q| p * q), |p, q| p + q),
+        );
+        store(
+            u2,
+            ia,
+            zip(pa[2], zip(sa, e[2], |p, q| p * q), |p, q| p + q),
+        );
+        store(
+            u0,
+            ib,
+            zip(pb[0], zip(sb, e[0], |p, q| p * q), |p, q| p - q),
+        );
+        store(
+            u1,
+            ib,
+            zip(pb[1], zip(sb, e[1], |p, q| p * q), |p, q| p - q),
+        );
+        store(
+            u2,
+            ib,
+            zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
+        );
     }
     for k in 4 * chunks..len {
-        project_one(x, &mut u, a + k, b + k, (rest[k], ca[k], cb[k]), gamma);
+        let (ia, ib) = (a + k, b + k);
+        let r = [u0[ia] - u0[ib], u1[ia] - u1[ib], u2[ia] - u2[ib]];
+        let e = [
+            (x0[ia] - x0[ib]) + r[0],
+            (x1[ia] - x1[ib]) + r[1],
+            (x2[ia] - x2[ib]) + r[2],
+        ];
+        let s = multiplier(e, r, data.rest[k], data.gamma);
+        let (sa, sb) = (data.ca[k] * s, data.cb[k] * s);
+        (u0[ia], u1[ia], u2[ia]) = (u0[ia] + sa * e[0], u1[ia] + sa * e[1], u2[ia] + sa * e[2]);
+        (u0[ib], u1[ib], u2[ib]) = (u0[ib] - sb * e[0], u1[ib] - sb * e[1], u2[ib] - sb * e[2]);
     }
 }
 
@@ -229,11 +363,26 @@ mod tests {
             u
         };
         check(
-            &run(&|a| project_lane(a, 0, 3, 3, data)),
+            &run(&|a| project_shared(a.x, &mut a.u, 0, 3, data)),
             [(0, 3), (1, 4), (2, 5)],
         );
         check(
-            &run(&|a| project_lane(a, 3, 0, 3, data)),
+            &run(&|arrays| {
+                let [x0, x1, x2] = arrays.x;
+                let [u0, u1, u2] = &mut arrays.u;
+                let (u0a, u0b) = u0.split_at_mut(3);
+                let (u1a, u1b) = u1.split_at_mut(3);
+                let (u2a, u2b) = u2.split_at_mut(3);
+                project_split(
+                    (
+                        [&x0[3..], &x1[3..], &x2[3..]],
+                        [&x0[..3], &x1[..3], &x2[..3]],
+                    ),
+                    &mut [u0b, u1b, u2b],
+                    &mut [u0a, u1a, u2a],
+                    data,
+                )
+            }),
             [(3, 0), (4, 1), (5, 2)],
         );
         check(
@@ -285,7 +434,7 @@ mod tests {
             let a: Vec<u32> = (0..len as u32).collect();
             let b: Vec<u32> = (gap as u32..n as u32).collect();
             let one_by_one = run(&|arrays| project_indexed(arrays, &a, &b, data));
-            let lane = run(&|arrays| project_lane(arrays, 0, gap, len, data));
+            let lane = run(&|arrays| project_shared(arrays.x, &mut arrays.u, 0, gap, data));
             assert_eq!(lane, one_by_one, "gap {gap}");
         }
     }

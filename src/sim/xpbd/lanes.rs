@@ -63,7 +63,17 @@ impl GridSlots {
 
     /// The first slot of quarter grid `q`.
     fn quarter(&self, q: u32) -> u32 {
-        q * self.rows * self.width
+        q * self.quarter_len()
+    }
+
+    /// Slots in one quarter grid.
+    pub fn quarter_len(&self) -> u32 {
+        self.rows * self.width
+    }
+
+    /// Slots per quarter-grid row.
+    pub fn width(&self) -> u32 {
+        self.width
     }
 
     /// The slot of the particle in `column`, `row`.
@@ -81,12 +91,17 @@ impl GridSlots {
     }
 }
 
-/// One family of one quarter over a band: element `k` joins slot `a + k` to slot `b + k`.
+/// One family of one quarter over a band: element `k` joins index `a + k` of quarter grid
+/// `qa` to index `b + k` of quarter grid `qb` (indices within a quarter grid: `row × W + k`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Lane {
-    /// Slot of end `a` of element 0.
+    /// Quarter grid of end `a`.
+    pub qa: u8,
+    /// Quarter grid of end `b`.
+    pub qb: u8,
+    /// Index of end `a` of element 0 in its quarter grid.
     pub a: u32,
-    /// Slot of end `b` of element 0.
+    /// Index of end `b` of element 0 in its quarter grid.
     pub b: u32,
     /// Elements.
     pub len: u32,
@@ -96,13 +111,24 @@ pub struct Lane {
     pub kind: SpringKind,
 }
 
+/// A band of rows and its lanes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Band {
+    /// The rows whose springs the band holds.
+    pub rows: Range<u32>,
+    /// The rows its lanes touch: its own and up to two more (below `rows.end`).
+    pub reach: Range<u32>,
+    /// Its lanes in [`GridLanes::lanes`].
+    pub lanes: Range<usize>,
+}
+
 /// A grid's lanes, band by band.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct GridLanes {
-    /// Every lane; band `i`'s are `lanes[bands[i].clone()]`.
+    /// Every lane.
     pub lanes: Vec<Lane>,
-    /// Lanes of each band, top to bottom.
-    pub bands: Vec<Range<usize>>,
+    /// The bands, top to bottom.
+    pub bands: Vec<Band>,
     /// Elements of all lanes together.
     pub elements: u32,
 }
@@ -136,16 +162,19 @@ impl GridLanes {
                     out.push_lane(slots, row..end, q, dc, dr, kind);
                 }
             }
-            out.bands.push(start..out.lanes.len());
+            out.bands.push(Band {
+                rows: row..end,
+                reach: row..(end + 2).min(slots.rows),
+                lanes: start..out.lanes.len(),
+            });
             row = end;
         }
         out
     }
 
-    /// The lane of quarter `q`'s springs `(dc, dr)` from the rows `rows`: from slot
-    /// (q, r, k) to the slot of column `4k + q + dc`, row `r + dr`. Elements whose far end
-    /// leaves the grid are phantoms; the lane is cut short where the far slot would leave
-    /// its quarter grid.
+    /// The lane of quarter `q`'s springs `(dc, dr)` from the rows `rows`: from (q, r, k) to
+    /// the slot of column `4k + q + dc`, row `r + dr`. Elements whose far end leaves the grid
+    /// are phantoms; the lane is cut short where the far index would leave its quarter grid.
     fn push_lane(
         &mut self,
         slots: GridSlots,
@@ -163,26 +192,26 @@ impl GridLanes {
         let target = q as i32 + dc;
         // Quarter and shift (in slots of a quarter row) of the far end.
         let (far_q, shift) = (target.rem_euclid(4) as u32, target.div_euclid(4));
-        let a = slots.quarter(q) + rows.start * w;
-        let b = slots.quarter(far_q) as i32 + ((rows.start + dr) * w) as i32 + shift;
+        let mut a = rows.start * w;
+        let mut b = ((rows.start + dr) * w) as i32 + shift;
         let mut len = (rows.end - rows.start) * w;
-        let mut a = a;
-        let mut b = b;
         // Keep both ends inside their quarter grids: a shift of −1 drops the first element,
         // +1 the last (those elements would be phantoms anyway).
-        if b < slots.quarter(far_q) as i32 {
+        if b < 0 {
             a += 1;
             b += 1;
             len -= 1;
         }
-        let far_end = slots.quarter(far_q) + slots.rows * w;
-        if b as u32 + len > far_end {
-            len = far_end - b as u32;
+        let quarter_len = slots.rows * w;
+        if b as u32 + len > quarter_len {
+            len = quarter_len - b as u32;
         }
         if len == 0 {
             return;
         }
         self.lanes.push(Lane {
+            qa: q as u8,
+            qb: far_q as u8,
             a,
             b: b as u32,
             len,
@@ -194,10 +223,12 @@ impl GridLanes {
 
     /// The grid cells of lane element `k`'s ends, or `None` for a phantom.
     pub fn cells(&self, slots: GridSlots, lane: &Lane, k: u32) -> Option<[(u32, u32); 2]> {
-        let (a, b) = (slots.cell(lane.a + k)?, slots.cell(lane.b + k)?);
+        let quarter_len = slots.rows * slots.width;
+        let a = slots.cell(u32::from(lane.qa) * quarter_len + lane.a + k)?;
+        let b = slots.cell(u32::from(lane.qb) * quarter_len + lane.b + k)?;
         let (dc, dr) = (b.0 as i32 - a.0 as i32, b.1 as i32 - a.1 as i32);
-        // Slots a quarter row apart may wrap to the next row: only the family's own step is a
-        // spring.
+        // Indices a quarter row apart may wrap to the next row: only the family's own step is
+        // a spring.
         let family = FAMILIES
             .iter()
             .any(|&(fc, fr, kind)| kind == lane.kind && (fc, fr as i32) == (dc, dr));
@@ -224,13 +255,26 @@ mod tests {
         let mut springs = std::collections::BTreeSet::new();
         let mut per_particle = vec![[0u32; 3]; (columns * rows) as usize];
         let mut touched: Vec<std::collections::BTreeSet<(u32, u32)>> = Vec::new();
+        let quarter = slots.quarter_len();
         for band in &lanes.bands {
             let mut band_cells = std::collections::BTreeSet::new();
-            for lane in &lanes.lanes[band.clone()] {
-                assert!(((lane.a.max(lane.b) + lane.len) as usize) <= slots.len());
+            for lane in &lanes.lanes[band.lanes.clone()] {
+                assert!(lane.a.max(lane.b) + lane.len <= quarter);
+                if lane.qa == lane.qb {
+                    assert!(
+                        lane.b > lane.a,
+                        "{lane:?}: a lane within a quarter runs forward"
+                    );
+                }
+                let w = slots.width();
                 for k in 0..lane.len {
-                    for slot in [lane.a + k, lane.b + k] {
-                        if let Some(cell) = slots.cell(slot) {
+                    for (q, index) in [(lane.qa, lane.a + k), (lane.qb, lane.b + k)] {
+                        let row = index / w;
+                        assert!(
+                            band.reach.contains(&row),
+                            "{lane:?} leaves its band's reach"
+                        );
+                        if let Some(cell) = slots.cell(u32::from(q) * quarter + index) {
                             band_cells.insert(cell);
                         }
                     }

@@ -1,17 +1,31 @@
 //! [`XpbdSolver`]: one cloth's XPBD state and the substep loop.
+//!
+//! A substep is three passes, each split across threads when the cloth is big enough and a
+//! task pool with more than one thread is given: the grid's even bands of springs, its odd
+//! bands, then one pass over the particles (tethers, colliders, the velocity update and the
+//! next substep's prediction). Bands solved together share no particle and particles are
+//! independent in the last pass, so the result is the same on any number of threads.
 
 use super::adjacency::Adjacency;
-use super::kernel::{Arrays, RunData, project_indexed, project_lane};
-use super::lanes::{GridLanes, GridSlots};
+use super::kernel::{Arrays, RunData, project_indexed, project_shared, project_split};
+use super::lanes::{Band, GridLanes, GridSlots, Lane};
+use crate::sim::anchors::Anchors;
 use crate::sim::collision::WorldCollider;
 use crate::sim::forces::ForceParams;
 use crate::sim::guard::GuardSettings;
+use crate::sim::parallel::{for_each_part, parts_for, pieces};
 use crate::sim::particles::Particles;
 use crate::sim::springs::{SpringCoefficients, SpringKind, Springs};
 use crate::sim::topology::GridShape;
+use bevy::tasks::TaskPool;
+use core::sync::atomic::{AtomicU32, Ordering};
 
 /// Rows per band of a grid: bands two apart are independent.
-const BAND_ROWS: u32 = 16;
+const BAND_ROWS: u32 = 8;
+
+/// Slots below which a cloth is stepped on one thread: splitting smaller ones costs more in
+/// handing work out than it saves.
+const PARALLEL_SLOTS: usize = 8192;
 
 /// No spring: a lane element past the grid's edge.
 const PHANTOM: u32 = u32::MAX;
@@ -42,7 +56,7 @@ struct FactorKey {
 }
 
 /// What one cloth needs around it for a frame of substeps.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 pub struct Surroundings<'a> {
     /// Gravity, wind, drag and spring coefficients.
     pub params: &'a ForceParams,
@@ -52,6 +66,11 @@ pub struct Surroundings<'a> {
     pub margin: f32,
     /// The blow-up guard's limits.
     pub guard: GuardSettings,
+    /// Tethers: each particle stays within `(1 + stretch) ×` its distance through the cloth
+    /// to the pin it hangs from; `None` for none.
+    pub tethers: Option<(&'a Anchors, f32)>,
+    /// Threads to share the work with, if any.
+    pub pool: Option<&'a TaskPool>,
 }
 
 /// One cloth's XPBD solver: particle state as separate `f32` arrays in the solver's own order
@@ -67,19 +86,10 @@ pub struct XpbdSolver {
     slot: Vec<u32>,
     /// The elements each particle is in (as an end, or the particle a bend passes over).
     adjacency: Adjacency,
-    /// Positions at the start of the substep, m, by slot.
-    x: [Vec<f32>; 3],
-    /// Velocities, m/s, by slot.
-    v: [Vec<f32>; 3],
-    /// Displacement since the start of the substep, m, by slot: `h v` from the prediction
-    /// plus the corrections.
-    u: [Vec<f32>; 3],
-    /// Acceleration from gravity, wind drag and external forces, m/s², by slot.
-    acceleration: [Vec<f32>; 3],
-    /// 1 for particles the solver moves freely, 0 for pins, burnt particles and padding.
-    free: Vec<f32>,
-    /// 1 for particles that move at all (free ones and pins following their anchor).
-    moving: Vec<f32>,
+    /// Per slot: positions at the start of the substep (m), velocities (m/s), displacement
+    /// since the start of the substep (m: `h v` from the prediction plus the corrections),
+    /// and the acceleration of gravity, wind drag and external forces (m/s²).
+    slots: SlotArrays,
     /// Inverse mass used by the constraints, 1/kg, by particle: zero for pins and burnt
     /// particles.
     w: Vec<f32>,
@@ -93,37 +103,148 @@ pub struct XpbdSolver {
     factors_for: Option<FactorKey>,
     /// Particles whose inverse mass changed since the factors were computed.
     dirty: Vec<u32>,
+    /// The slots of the pins tethers hold to (entry 0 stands for none), each particle's
+    /// entry if it is one of them (else 0), their positions in the current substep, and the
+    /// stretch the tethers were made for.
+    pin_slots: Vec<u32>,
+    pin_index: Vec<u32>,
+    pin_positions: Vec<[f32; 3]>,
+    tethers_for: Option<f32>,
+    /// Whether the slots' tether targets hold their pins' positions.
+    targets_valid: bool,
+}
+
+/// What reading the particles found out about the pins.
+struct PinNews {
+    /// A pin came or went.
+    changed: bool,
+    /// Some pin moves this frame.
+    moving: bool,
+}
+
+/// The per-slot arrays.
+#[derive(Clone, Debug, Default)]
+struct SlotArrays {
+    /// The particle in each slot (`PHANTOM` for padding).
+    particle: Vec<u32>,
+    x: [Vec<f32>; 3],
+    v: [Vec<f32>; 3],
+    u: [Vec<f32>; 3],
+    acceleration: [Vec<f32>; 3],
+    /// 1 for particles the solver moves freely, 0 for pins, burnt particles and padding.
+    free: Vec<f32>,
+    /// 1 for particles that move at all (free ones and pins following their anchor).
+    moving: Vec<f32>,
+    /// Index in `pin_slots` of the pin the slot is tethered to (0 for none), and how far from
+    /// it it may be (m; infinite for none).
+    tether_pin: Vec<u32>,
+    tether_length: Vec<f32>,
+    /// Where the pin of each slot's tether is (m), while pins stand still.
+    tether_target: [Vec<f32>; 3],
+}
+
+impl SlotArrays {
+    fn resize(&mut self, slots: usize) {
+        for array in self
+            .x
+            .iter_mut()
+            .chain(&mut self.v)
+            .chain(&mut self.u)
+            .chain(&mut self.acceleration)
+            .chain(&mut self.tether_target)
+            .chain([&mut self.free, &mut self.moving])
+        {
+            array.clear();
+            array.resize(slots, 0.0);
+        }
+        self.tether_pin.clear();
+        self.tether_pin.resize(slots, 0);
+        self.tether_length.clear();
+        self.tether_length.resize(slots, f32::INFINITY);
+        self.particle.clear();
+        self.particle.resize(slots, PHANTOM);
+    }
+
+    /// The arrays cut into `parts` consecutive runs of slots.
+    fn parts(&mut self, parts: usize) -> impl Iterator<Item = SlotChunk<'_>> {
+        let size = self.len().div_ceil(parts.max(1)).max(1);
+        let SlotArrays {
+            particle,
+            x,
+            v,
+            u,
+            acceleration,
+            free,
+            moving,
+            tether_pin,
+            tether_length,
+            tether_target,
+        } = self;
+        let mut rest = SlotChunk {
+            particle,
+            x: x.each_mut().map(|a| a.as_mut_slice()),
+            v: v.each_mut().map(|a| a.as_mut_slice()),
+            u: u.each_mut().map(|a| a.as_mut_slice()),
+            acceleration: acceleration.each_mut().map(|a| a.as_mut_slice()),
+            free,
+            moving,
+            tether_pin,
+            tether_length,
+            tether_target: tether_target.each_mut().map(|a| a.as_mut_slice()),
+        };
+        core::iter::from_fn(move || {
+            (!rest.free.is_empty()).then(|| {
+                let take = size.min(rest.free.len());
+                let (head, tail) = core::mem::take(&mut rest).split_at(take);
+                rest = tail;
+                head
+            })
+        })
+    }
+
+    fn heap_bytes(&self) -> usize {
+        let floats: usize = self
+            .x
+            .iter()
+            .chain(&self.v)
+            .chain(&self.u)
+            .chain(&self.acceleration)
+            .chain(&self.tether_target)
+            .chain([&self.free, &self.moving, &self.tether_length])
+            .map(Vec::capacity)
+            .sum();
+        (floats + self.tether_pin.capacity() + self.particle.capacity()) * size_of::<f32>()
+    }
+
+    fn len(&self) -> usize {
+        self.free.len()
+    }
 }
 
 impl XpbdSolver {
     /// Heap memory held, bytes (capacity, not length).
     pub fn heap_bytes(&self) -> usize {
-        let floats: usize = [&self.x, &self.v, &self.u, &self.acceleration]
-            .iter()
-            .flat_map(|a| a.iter())
-            .map(Vec::capacity)
-            .sum::<usize>()
-            + [
-                &self.free,
-                &self.moving,
-                &self.w,
-                &self.rest,
-                &self.ca,
-                &self.cb,
-            ]
+        let floats = [&self.w, &self.rest, &self.ca, &self.cb]
             .iter()
             .map(|a| a.capacity())
             .sum::<usize>();
         let layout = match &self.layout {
             Layout::Grid { lanes, spring, .. } => {
-                lanes.lanes.capacity() * size_of::<super::lanes::Lane>()
-                    + lanes.bands.capacity() * size_of::<std::ops::Range<usize>>()
+                lanes.lanes.capacity() * size_of::<Lane>()
+                    + lanes.bands.capacity() * size_of::<Band>()
                     + spring.capacity() * size_of::<u32>()
             }
             _ => 0,
         };
-        (floats + self.slot.capacity() + self.dirty.capacity()) * size_of::<f32>()
+        (floats
+            + self.slot.capacity()
+            + self.dirty.capacity()
+            + self.pin_slots.capacity()
+            + self.pin_index.capacity())
+            * size_of::<f32>()
+            + self.pin_positions.capacity() * size_of::<[f32; 3]>()
             + layout
+            + self.slots.heap_bytes()
             + self.adjacency.heap_bytes()
     }
 
@@ -147,8 +268,6 @@ impl XpbdSolver {
                 let columns = grid.map_or(1, |g| g.columns);
                 self.slot
                     .extend((0..n as u32).map(|i| slots.slot(i % columns, i / columns)));
-                // Element e is in particle i's row when i is one of its spring's ends or
-                // the particle it spans.
                 self.adjacency
                     .build(n, spring.len(), |e| members(springs, spring[e as usize]));
                 (slots.len(), lanes.elements as usize)
@@ -160,19 +279,9 @@ impl XpbdSolver {
                 (n, springs.len())
             }
         };
-        for array in self
-            .x
-            .iter_mut()
-            .chain(&mut self.v)
-            .chain(&mut self.u)
-            .chain(&mut self.acceleration)
-        {
-            array.clear();
-            array.resize(slots, 0.0);
-        }
-        for array in [&mut self.free, &mut self.moving] {
-            array.clear();
-            array.resize(slots, 0.0);
+        self.slots.resize(slots);
+        for (i, &slot) in self.slot.iter().enumerate() {
+            self.slots.particle[slot as usize] = i as u32;
         }
         self.w.clear();
         self.w.resize(n, f32::NAN);
@@ -183,11 +292,21 @@ impl XpbdSolver {
         self.dirty.clear();
         self.dirty.reserve(n);
         self.factors_for = None;
+        self.pin_slots.clear();
+        self.pin_slots.reserve(n + 1);
+        self.pin_index.clear();
+        self.pin_index.resize(n, 0);
+        self.pin_positions.clear();
+        self.pin_positions.reserve(n + 1);
+        self.tethers_for = None;
+        self.targets_valid = false;
     }
 
     /// Advances the cloth `substeps` substeps of `h` seconds each: the particles are read
     /// once, stepped in the solver's arrays and written back once. Returns the particles the
-    /// blow-up guard put back (their position at the start, at rest).
+    /// blow-up guard put back (their position at the start, at rest), and whether a particle
+    /// was pinned or unpinned since the last call (what hangs from what must then be found
+    /// anew).
     pub fn advance(
         &mut self,
         particles: &mut Particles,
@@ -196,83 +315,102 @@ impl XpbdSolver {
         around: &Surroundings,
         h: f32,
         substeps: u32,
-    ) -> u32 {
+    ) -> (u32, bool) {
         if particles.is_empty() || !(h.is_finite() && h > 0.0) {
-            return 0;
+            return (0, false);
         }
         self.prepare(particles, springs, grid);
         let frame = h * substeps as f32;
-        self.read(particles, springs, around.params, frame);
+        let pool = around.pool.filter(|_| self.slots.len() >= PARALLEL_SLOTS);
+        let pins = self.read(particles, springs, around.params, frame, pool);
         self.update_factors(particles, springs, &around.params.coefficients, h);
-        let drag = around.params.drag_per_mass.max(0.0);
+        let tethered = match around.tethers {
+            Some((anchors, stretch)) => {
+                self.update_tethers(anchors, stretch);
+                true
+            }
+            None => false,
+        };
+        // Tether targets stay where they are while the pins stand still.
+        let mut refresh = tethered && (!self.targets_valid || pins.moving);
+        let mut step = Substep {
+            h,
+            drag: around.params.drag_per_mass.max(0.0),
+            colliders: around.colliders,
+            margin: around.margin,
+            tethered,
+            refresh_targets: false,
+        };
+        per_slot(&mut self.slots, pool, &[], &step, Phase::PredictOnly);
         for substep in 0..substeps {
-            if substep == 0 {
-                self.predict(h, drag);
+            self.project_springs(springs, pool);
+            if refresh {
+                self.place_pins();
             }
-            self.project_springs(springs);
-            if !around.colliders.is_empty() {
-                self.collide(around.colliders, around.margin);
-            }
-            self.finish_substep(h, drag, substep + 1 < substeps);
+            step.refresh_targets = refresh;
+            let phase = if substep + 1 < substeps {
+                Phase::FinishAndPredict
+            } else {
+                Phase::Finish
+            };
+            per_slot(&mut self.slots, pool, &self.pin_positions, &step, phase);
+            refresh = tethered && pins.moving;
         }
-        self.write(particles, &around.guard)
+        self.targets_valid = tethered && !pins.moving;
+        (self.write(particles, &around.guard, pool), pins.changed)
     }
 
-    /// Copies the particles in (and a grid's rest lengths into lane order). Pins start where
-    /// they were a frame ago (their anchor moved them to this frame's target already) and move
-    /// there over the substeps.
-    fn read(&mut self, particles: &Particles, springs: &Springs, params: &ForceParams, frame: f32) {
+    /// Copies the particles in (and a grid's rest lengths into lane order), in parts over
+    /// the pool's threads. Says whether a pin came or went, and whether any pin moves.
+    fn read(
+        &mut self,
+        particles: &Particles,
+        springs: &Springs,
+        params: &ForceParams,
+        frame: f32,
+        pool: Option<&TaskPool>,
+    ) -> PinNews {
+        let mut pins_changed = false;
+        let mut pins_moving = false;
+        for i in 0..particles.len() {
+            let burnt = particles.state[i].is_burnt();
+            let pinned = particles.inv_mass[i] == 0.0;
+            pins_moving |= pinned && !burnt && particles.velocity[i] != glam::Vec3::ZERO;
+            let mass_inverse = if burnt { 0.0 } else { particles.inv_mass[i] };
+            let w = &mut self.w[i];
+            if mass_inverse.to_bits() != w.to_bits() {
+                // Not burnt, and from or to zero: a pin came or went (the first read after a
+                // layout sees every particle change, from NaN; that is no pin change).
+                pins_changed |= !burnt && !w.is_nan() && (*w == 0.0) != pinned;
+                *w = mass_inverse;
+                self.dirty.push(i as u32);
+            }
+        }
         let drag = params.drag_per_mass.max(0.0);
         let constant = params.gravity + drag * params.wind;
-        let n = particles.len();
-        let Self {
-            slot,
-            x: [x0, x1, x2],
-            v: [v0, v1, v2],
-            acceleration: [a0, a1, a2],
-            free,
-            moving,
-            w,
-            dirty,
-            ..
-        } = self;
-        let p = particles;
-        for i in 0..n {
-            let burnt = p.state[i].is_burnt();
-            let pinned = p.inv_mass[i] == 0.0;
-            let mass_inverse = if burnt { 0.0 } else { p.inv_mass[i] };
-            if mass_inverse.to_bits() != w[i].to_bits() {
-                w[i] = mass_inverse;
-                dirty.push(i as u32);
-            }
-            let is_free = !burnt && !pinned;
-            let s = slot[i] as usize;
-            free[s] = if is_free { 1.0 } else { 0.0 };
-            moving[s] = if burnt { 0.0 } else { 1.0 };
-            let (position, velocity) = (p.position[i], p.velocity[i]);
-            let start = if pinned && !burnt {
-                position - frame * velocity
-            } else {
-                position
-            };
-            let a = if is_free {
-                constant + p.external_force[i] * mass_inverse
-            } else {
-                glam::Vec3::ZERO
-            };
-            (x0[s], x1[s], x2[s]) = (start.x, start.y, start.z);
-            (v0[s], v1[s], v2[s]) = (velocity.x, velocity.y, velocity.z);
-            (a0[s], a1[s], a2[s]) = (a.x, a.y, a.z);
-        }
+        let w = &self.w;
+        let parts = parts_for(pool, self.slots.len(), 2048);
+        for_each_part(pool, self.slots.parts(parts), |mut chunk| {
+            chunk.read(particles, w, constant, frame)
+        });
         if let Layout::Grid { spring, .. } = &self.layout {
             let lengths = &springs.rest_length;
-            for (rest, &s) in self.rest.iter_mut().zip(spring) {
-                *rest = if s == PHANTOM {
-                    0.0
-                } else {
-                    lengths[s as usize]
-                };
-            }
+            let parts = parts_for(pool, spring.len(), 8192);
+            let size = spring.len().div_ceil(parts);
+            let work = pieces(&mut self.rest, parts).zip(spring.chunks(size));
+            for_each_part(pool, work, |(rest, spring)| {
+                for (rest, &s) in rest.iter_mut().zip(spring) {
+                    *rest = if s == PHANTOM {
+                        0.0
+                    } else {
+                        lengths[s as usize]
+                    };
+                }
+            });
+        }
+        PinNews {
+            changed: pins_changed,
+            moving: pins_moving,
         }
     }
 
@@ -294,19 +432,20 @@ impl XpbdSolver {
             Layout::Grid { spring, .. } => spring[e],
             _ => e as u32,
         };
+        let all = self.factors_for != Some(key);
         let factors = Factors {
             w: &self.w,
-            gamma: if self.factors_for == Some(key) {
-                self.gamma
-            } else {
+            gamma: if all {
                 damping_factors(coefficients, h)
+            } else {
+                self.gamma
             },
             particles,
             springs,
             coefficients,
             h,
         };
-        if self.factors_for != Some(key) {
+        if all {
             for e in 0..self.ca.len() {
                 (self.ca[e], self.cb[e]) = factors.of(spring_of(e));
             }
@@ -324,52 +463,84 @@ impl XpbdSolver {
         self.dirty = dirty;
     }
 
-    /// Velocities take the outside accelerations (drag implicitly, so any step is stable) and
-    /// the particles move with them: `u = h v`.
-    fn predict(&mut self, h: f32, drag: f32) {
-        let keep = 1.0 / (1.0 + h * drag);
-        let n = self.free.len();
-        let (free, moving) = (&self.free[..n], &self.moving[..n]);
-        for axis in 0..3 {
-            let v = &mut self.v[axis][..n];
-            let a = &self.acceleration[axis][..n];
-            let u = &mut self.u[axis][..n];
-            for i in 0..n {
-                let accelerated = (v[i] + h * a[i]) * keep;
-                v[i] += free[i] * (accelerated - v[i]);
-                u[i] = moving[i] * h * v[i];
+    /// Tether pins and lengths from what each particle hangs from: for the particles whose
+    /// anchor changed, or all of them when the stretch changed or the pins did.
+    fn update_tethers(&mut self, anchors: &Anchors, stretch: f32) {
+        let scale = 1.0 + stretch.max(0.0);
+        if !anchors.changed().is_empty() || self.tethers_for != Some(stretch) {
+            self.targets_valid = false;
+        }
+        let everything = anchors.changed().len() == self.slot.len();
+        if self.tethers_for != Some(stretch) || everything {
+            // Number the pins: entry 0 stands for "no tether".
+            self.pin_slots.clear();
+            self.pin_slots.push(0);
+            for i in 0..self.slot.len() {
+                self.pin_index[i] = if anchors.anchor(i) == Some(i as u32) {
+                    self.pin_slots.push(self.slot[i]);
+                    (self.pin_slots.len() - 1) as u32
+                } else {
+                    0
+                };
+            }
+            self.pin_positions.clear();
+            self.pin_positions.resize(self.pin_slots.len(), [0.0; 3]);
+            self.tethers_for = Some(stretch);
+            for i in 0..self.slot.len() {
+                self.set_tether(anchors, i, scale);
+            }
+        } else {
+            for &i in anchors.changed() {
+                self.set_tether(anchors, i as usize, scale);
             }
         }
     }
 
-    /// One Gauss–Seidel pass over every spring: a grid's even bands, then its odd bands; a
-    /// mesh's springs in stored order.
-    fn project_springs(&mut self, springs: &Springs) {
-        let [x0, x1, x2] = &self.x;
-        let [u0, u1, u2] = &mut self.u;
-        let mut arrays = Arrays {
-            x: [x0, x1, x2],
-            u: [u0, u1, u2],
+    fn set_tether(&mut self, anchors: &Anchors, i: usize, scale: f32) {
+        let own = self.slot[i] as usize;
+        let pin = anchors
+            .anchor(i)
+            .filter(|_| anchors.distance(i) > 0.0)
+            .map_or(0, |pin| self.pin_index[pin as usize]);
+        (self.slots.tether_pin[own], self.slots.tether_length[own]) = if pin > 0 {
+            (pin, anchors.distance(i) * scale)
+        } else {
+            (0, f32::INFINITY)
         };
+    }
+
+    /// Where the tethers' pins are in this substep.
+    fn place_pins(&mut self) {
+        let SlotArrays { x, u, .. } = &self.slots;
+        for (position, &slot) in self.pin_positions.iter_mut().zip(&self.pin_slots).skip(1) {
+            let s = slot as usize;
+            *position = core::array::from_fn(|axis| x[axis][s] + u[axis][s]);
+        }
+    }
+
+    /// One Gauss–Seidel pass over every spring: a grid's even bands, then its odd bands (each
+    /// split across threads when there is a pool); a mesh's springs in stored order.
+    fn project_springs(&mut self, springs: &Springs, pool: Option<&TaskPool>) {
+        let SlotArrays { x, u, .. } = &mut self.slots;
         match &self.layout {
-            Layout::Grid { lanes, .. } => {
+            Layout::Grid { slots, lanes, .. } => {
+                let elements = Elements {
+                    rest: &self.rest,
+                    ca: &self.ca,
+                    cb: &self.cb,
+                    gamma: self.gamma,
+                };
                 for parity in 0..2 {
-                    for band in lanes.bands.iter().skip(parity).step_by(2) {
-                        for lane in &lanes.lanes[band.clone()] {
-                            let elements = lane.first as usize..(lane.first + lane.len) as usize;
-                            let data = RunData {
-                                rest: &self.rest[elements.clone()],
-                                ca: &self.ca[elements.clone()],
-                                cb: &self.cb[elements],
-                                gamma: self.gamma[lane.kind as usize],
-                            };
-                            let (a, b, len) = (lane.a as usize, lane.b as usize, lane.len as usize);
-                            project_lane(&mut arrays, a, b, len, data);
-                        }
-                    }
+                    project_bands(x, u, *slots, lanes, parity, &elements, pool);
                 }
             }
             Layout::Indexed => {
+                let [x0, x1, x2] = &*x;
+                let [u0, u1, u2] = u;
+                let mut arrays = Arrays {
+                    x: [x0, x1, x2],
+                    u: [u0, u1, u2],
+                };
                 // A stretch of springs of one kind at a time (each kind has its own damping).
                 let n = springs.len();
                 let mut start = 0;
@@ -391,15 +562,380 @@ impl XpbdSolver {
         }
     }
 
+    /// Copies the free particles back, putting back any that went non-finite or ran away
+    /// (position as at the start, at rest), in parts over the pool's threads. Pins keep
+    /// their target; burnt particles do not move. Returns how many were put back.
+    fn write(
+        &self,
+        particles: &mut Particles,
+        guard: &GuardSettings,
+        pool: Option<&TaskPool>,
+    ) -> u32 {
+        let repaired = AtomicU32::new(0);
+        let max_speed_squared = guard.max_speed * guard.max_speed;
+        let SlotArrays { x, v, free, .. } = &self.slots;
+        let n = particles.len();
+        let parts = parts_for(pool, n, 2048);
+        let size = n.div_ceil(parts);
+        let work = pieces(&mut particles.position, parts)
+            .zip(pieces(&mut particles.velocity, parts))
+            .zip(self.slot.chunks(size));
+        for_each_part(pool, work, |((position, velocity), slot)| {
+            let mut put_back = 0;
+            for ((p, vel), &s) in position.iter_mut().zip(velocity.iter_mut()).zip(slot) {
+                let s = s as usize;
+                if free[s] == 0.0 {
+                    continue;
+                }
+                let new_position = glam::Vec3::new(x[0][s], x[1][s], x[2][s]);
+                let new_velocity = glam::Vec3::new(v[0][s], v[1][s], v[2][s]);
+                let blown = !(new_position.is_finite()
+                    && new_velocity.is_finite()
+                    && new_velocity.length_squared() <= max_speed_squared);
+                if guard.enabled && blown {
+                    *vel = glam::Vec3::ZERO;
+                    put_back += 1;
+                } else {
+                    *p = new_position;
+                    *vel = new_velocity;
+                }
+            }
+            repaired.fetch_add(put_back, Ordering::Relaxed);
+        });
+        repaired.into_inner()
+    }
+}
+
+/// The per-element arrays a band pass reads.
+struct Elements<'a> {
+    rest: &'a [f32],
+    ca: &'a [f32],
+    cb: &'a [f32],
+    gamma: [f32; 3],
+}
+
+/// One band's share of the particle arrays: every quarter grid's rows in the band's reach,
+/// and positions of the whole quarter grids.
+struct BandView<'a> {
+    x: [[&'a [f32]; 4]; 3],
+    u: [[&'a mut [f32]; 4]; 3],
+    /// Index, within a quarter grid, of the first entry of `u`.
+    base: usize,
+}
+
+/// Projects the lanes of the bands of one parity (0: even, 1: odd), in parallel when a pool
+/// is given. The bands' reaches do not overlap, so each gets its own slices.
+fn project_bands(
+    x: &[Vec<f32>; 3],
+    u: &mut [Vec<f32>; 3],
+    slots: GridSlots,
+    lanes: &GridLanes,
+    parity: usize,
+    elements: &Elements,
+    pool: Option<&TaskPool>,
+) {
+    let quarter = slots.quarter_len() as usize;
+    let width = slots.width() as usize;
+    let x_quarters: [[&[f32]; 4]; 3] = core::array::from_fn(|axis| {
+        core::array::from_fn(|q| &x[axis][q * quarter..(q + 1) * quarter])
+    });
+    let [u0, u1, u2] = u;
+    let mut rest_of = [u0, u1, u2].map(|axis| {
+        let mut quarters = axis.chunks_exact_mut(quarter);
+        let q: [&mut [f32]; 4] = core::array::from_fn(|_| quarters.next().unwrap_or_default());
+        q
+    });
+    let mut taken = 0;
+    let views = lanes.bands.iter().skip(parity).step_by(2).map(move |band| {
+        let (start, end) = (
+            band.reach.start as usize * width,
+            band.reach.end as usize * width,
+        );
+        let skip = start - taken;
+        taken = end;
+        let u: [[&mut [f32]; 4]; 3] = core::array::from_fn(|axis| {
+            core::array::from_fn(|q| {
+                let whole = core::mem::take(&mut rest_of[axis][q]);
+                let (_, after) = whole.split_at_mut(skip);
+                let (mine, later) = after.split_at_mut(end - start);
+                rest_of[axis][q] = later;
+                mine
+            })
+        });
+        let x =
+            core::array::from_fn(|axis| core::array::from_fn(|q| &x_quarters[axis][q][start..]));
+        (
+            BandView { x, u, base: start },
+            &lanes.lanes[band.lanes.clone()],
+        )
+    });
+    for_each_part(pool, views, |(view, band_lanes)| {
+        project_band(view, band_lanes, elements)
+    });
+}
+
+/// Projects one band's lanes in order.
+fn project_band(mut view: BandView, lanes: &[Lane], elements: &Elements) {
+    for lane in lanes {
+        let range = lane.first as usize..(lane.first + lane.len) as usize;
+        let data = RunData {
+            rest: &elements.rest[range.clone()],
+            ca: &elements.ca[range.clone()],
+            cb: &elements.cb[range],
+            gamma: elements.gamma[lane.kind as usize],
+        };
+        let (qa, qb) = (lane.qa as usize, lane.qb as usize);
+        let (a, b) = (lane.a as usize - view.base, lane.b as usize - view.base);
+        let len = lane.len as usize;
+        if qa == qb {
+            let x = core::array::from_fn(|axis| view.x[axis][qa]);
+            let mut u: [&mut [f32]; 3] = view.u.each_mut().map(|quarters| &mut *quarters[qa]);
+            project_shared(x, &mut u, a, b, data);
+        } else {
+            let xa = core::array::from_fn(|axis| &view.x[axis][qa][a..a + len]);
+            let xb = core::array::from_fn(|axis| &view.x[axis][qb][b..b + len]);
+            let (mut ua, mut ub) = split_quarters(&mut view.u, qa, qb, (a, b), len);
+            project_split((xa, xb), &mut ua, &mut ub, data);
+        }
+    }
+}
+
+/// The `len` entries from `a` of quarter `qa` and from `b` of quarter `qb` (`qa ≠ qb`), per axis.
+fn split_quarters<'v>(
+    u: &'v mut [[&mut [f32]; 4]; 3],
+    qa: usize,
+    qb: usize,
+    (a, b): (usize, usize),
+    len: usize,
+) -> ([&'v mut [f32]; 3], [&'v mut [f32]; 3]) {
+    let mut ua: [&mut [f32]; 3] = [&mut [], &mut [], &mut []];
+    let mut ub: [&mut [f32]; 3] = [&mut [], &mut [], &mut []];
+    for (axis, quarters) in u.iter_mut().enumerate() {
+        for (q, quarter) in quarters.iter_mut().enumerate() {
+            if q == qa {
+                ua[axis] = &mut quarter[a..a + len];
+            } else if q == qb {
+                ub[axis] = &mut quarter[b..b + len];
+            }
+        }
+    }
+    (ua, ub)
+}
+
+/// What the per-slot pass of a substep needs.
+#[derive(Clone, Copy)]
+struct Substep<'a> {
+    h: f32,
+    drag: f32,
+    colliders: &'a [WorldCollider],
+    margin: f32,
+    tethered: bool,
+    /// Whether the tether targets must be looked up again from `pins` (the pins moved, or
+    /// what hangs from what changed).
+    refresh_targets: bool,
+}
+
+/// Which part of the per-slot pass runs.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    /// The first substep's prediction.
+    PredictOnly,
+    /// Tethers, colliders, the velocity update, then the next substep's prediction.
+    FinishAndPredict,
+    /// The last substep: tethers, colliders, the velocity update.
+    Finish,
+}
+
+/// The per-slot pass over all slots, split into contiguous parts across threads when a pool
+/// is given (each slot is independent, so the split changes nothing).
+fn per_slot(
+    slots: &mut SlotArrays,
+    pool: Option<&TaskPool>,
+    pins: &[[f32; 3]],
+    step: &Substep,
+    phase: Phase,
+) {
+    let parts = parts_for(pool, slots.len(), 1024);
+    for_each_part(pool, slots.parts(parts), |mut chunk| {
+        chunk.run(pins, step, phase)
+    });
+}
+
+/// A contiguous run of the per-slot arrays.
+#[derive(Default)]
+struct SlotChunk<'a> {
+    particle: &'a mut [u32],
+    x: [&'a mut [f32]; 3],
+    v: [&'a mut [f32]; 3],
+    u: [&'a mut [f32]; 3],
+    acceleration: [&'a mut [f32]; 3],
+    free: &'a mut [f32],
+    moving: &'a mut [f32],
+    tether_pin: &'a mut [u32],
+    tether_length: &'a mut [f32],
+    tether_target: [&'a mut [f32]; 3],
+}
+
+impl<'a> SlotChunk<'a> {
+    /// The first `at` slots, and the rest.
+    fn split_at(self, at: usize) -> (Self, Self) {
+        let (particle, particle_rest) = self.particle.split_at_mut(at);
+        let [x0, x1, x2] = self.x.map(|a| a.split_at_mut(at));
+        let [v0, v1, v2] = self.v.map(|a| a.split_at_mut(at));
+        let [u0, u1, u2] = self.u.map(|a| a.split_at_mut(at));
+        let [a0, a1, a2] = self.acceleration.map(|a| a.split_at_mut(at));
+        let (free, free_rest) = self.free.split_at_mut(at);
+        let (moving, moving_rest) = self.moving.split_at_mut(at);
+        let (pin, pin_rest) = self.tether_pin.split_at_mut(at);
+        let (length, length_rest) = self.tether_length.split_at_mut(at);
+        let [t0, t1, t2] = self.tether_target.map(|a| a.split_at_mut(at));
+        (
+            Self {
+                particle,
+                x: [x0.0, x1.0, x2.0],
+                v: [v0.0, v1.0, v2.0],
+                u: [u0.0, u1.0, u2.0],
+                acceleration: [a0.0, a1.0, a2.0],
+                free,
+                moving,
+                tether_pin: pin,
+                tether_length: length,
+                tether_target: [t0.0, t1.0, t2.0],
+            },
+            Self {
+                particle: particle_rest,
+                x: [x0.1, x1.1, x2.1],
+                v: [v0.1, v1.1, v2.1],
+                u: [u0.1, u1.1, u2.1],
+                acceleration: [a0.1, a1.1, a2.1],
+                free: free_rest,
+                moving: moving_rest,
+                tether_pin: pin_rest,
+                tether_length: length_rest,
+                tether_target: [t0.1, t1.1, t2.1],
+            },
+        )
+    }
+
+    /// Copies in the particles of these slots (padding stays still). Pins start `frame`
+    /// seconds of their velocity before their target and move there over the substeps.
+    fn read(&mut self, particles: &Particles, w: &[f32], constant: glam::Vec3, frame: f32) {
+        for s in 0..self.free.len() {
+            let i = self.particle[s] as usize;
+            let Some(&mass_inverse) = w.get(i) else {
+                self.free[s] = 0.0;
+                self.moving[s] = 0.0;
+                continue;
+            };
+            let burnt = particles.state[i].is_burnt();
+            let pinned = particles.inv_mass[i] == 0.0;
+            let is_free = !burnt && !pinned;
+            self.free[s] = if is_free { 1.0 } else { 0.0 };
+            self.moving[s] = if burnt { 0.0 } else { 1.0 };
+            let (position, velocity) = (particles.position[i], particles.velocity[i]);
+            let start = if pinned && !burnt {
+                position - frame * velocity
+            } else {
+                position
+            };
+            let a = if is_free {
+                constant + particles.external_force[i] * mass_inverse
+            } else {
+                glam::Vec3::ZERO
+            };
+            for axis in 0..3 {
+                self.x[axis][s] = start[axis];
+                self.v[axis][s] = velocity[axis];
+                self.acceleration[axis][s] = a[axis];
+            }
+        }
+    }
+
+    fn run(&mut self, pins: &[[f32; 3]], step: &Substep, phase: Phase) {
+        if phase != Phase::PredictOnly {
+            if step.tethered {
+                if step.refresh_targets {
+                    self.place_targets(pins);
+                }
+                self.tethers();
+            }
+            if !step.colliders.is_empty() {
+                self.collide(step.colliders, step.margin);
+            }
+        }
+        match phase {
+            Phase::PredictOnly => self.predict(step.h, step.drag),
+            Phase::FinishAndPredict => self.finish_and_predict(step.h, step.drag),
+            Phase::Finish => self.finish(step.h),
+        }
+    }
+
+    /// Each slot's tether target: the position of its pin in `pins`.
+    fn place_targets(&mut self, pins: &[[f32; 3]]) {
+        for (s, &pin) in self.tether_pin.iter().enumerate() {
+            for (target, &coordinate) in self.tether_target.iter_mut().zip(&pins[pin as usize]) {
+                target[s] = coordinate;
+            }
+        }
+    }
+
+    /// Pulls every particle farther from its pin than its tether allows back to the tether's
+    /// length (the pin does not move).
+    fn tethers(&mut self) {
+        let n = self.free.len();
+        let (length, free) = (&self.tether_length[..n], &self.free[..n]);
+        let [x0, x1, x2] = &self.x;
+        let [u0, u1, u2] = &mut self.u;
+        let [t0, t1, t2] = &self.tether_target;
+        let (x0, x1, x2) = (&x0[..n], &x1[..n], &x2[..n]);
+        let (t0, t1, t2) = (&t0[..n], &t1[..n], &t2[..n]);
+        let (u0, u1, u2) = (&mut u0[..n], &mut u1[..n], &mut u2[..n]);
+        for s in 0..n {
+            let d = [
+                (x0[s] + u0[s]) - t0[s],
+                (x1[s] + u1[s]) - t1[s],
+                (x2[s] + u2[s]) - t2[s],
+            ];
+            let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let k = free[s] * (l - length[s]).max(0.0) / l.max(1e-9);
+            u0[s] -= k * d[0];
+            u1[s] -= k * d[1];
+            u2[s] -= k * d[2];
+        }
+    }
+
+    /// The end of a substep and the start of the next in one pass: free particles take their
+    /// velocity from their displacement, every particle moves by it; then the velocities
+    /// take the outside accelerations (drag implicitly, so any step is stable) and the
+    /// particles move with them, `u = h v`.
+    fn finish_and_predict(&mut self, h: f32, drag: f32) {
+        let (inverse, keep) = (1.0 / h, 1.0 / (1.0 + h * drag));
+        let n = self.free.len();
+        let (free, moving) = (&self.free[..n], &self.moving[..n]);
+        for axis in 0..3 {
+            let x = &mut self.x[axis][..n];
+            let v = &mut self.v[axis][..n];
+            let u = &mut self.u[axis][..n];
+            let a = &self.acceleration[axis][..n];
+            for i in 0..n {
+                x[i] += u[i];
+                let finished = v[i] + free[i] * (u[i] * inverse - v[i]);
+                let accelerated = (finished + h * a[i]) * keep;
+                v[i] = finished + free[i] * (accelerated - finished);
+                u[i] = moving[i] * h * v[i];
+            }
+        }
+    }
+
     /// Pushes free particles out of colliders, taking `friction` of their sliding motion.
     fn collide(&mut self, colliders: &[WorldCollider], margin: f32) {
-        for i in 0..self.free.len() {
-            if self.free[i] == 0.0 {
+        for s in 0..self.free.len() {
+            if self.free[s] == 0.0 {
                 continue;
             }
-            let x = glam::Vec3::new(self.x[0][i], self.x[1][i], self.x[2][i]);
+            let x = glam::Vec3::new(self.x[0][s], self.x[1][s], self.x[2][s]);
             for collider in colliders {
-                let u = glam::Vec3::new(self.u[0][i], self.u[1][i], self.u[2][i]);
+                let u = glam::Vec3::new(self.u[0][s], self.u[1][s], self.u[2][s]);
                 let (distance, normal) = collider.distance(x + u);
                 if distance >= margin || distance.is_nan() {
                     continue;
@@ -408,66 +944,47 @@ impl XpbdSolver {
                 let sliding = pushed - normal * pushed.dot(normal);
                 let moved = pushed - sliding * collider.friction.clamp(0.0, 1.0);
                 for axis in 0..3 {
-                    self.u[axis][i] = moved[axis];
+                    self.u[axis][s] = moved[axis];
                 }
             }
         }
     }
 
     /// Free particles take their velocity from their displacement over the substep; every
-    /// particle moves by it. With `predict_next`, the next substep's prediction follows in the
-    /// same pass.
-    fn finish_substep(&mut self, h: f32, drag: f32, predict_next: bool) {
+    /// particle moves by it.
+    fn finish(&mut self, h: f32) {
         let inverse = 1.0 / h;
-        let keep = 1.0 / (1.0 + h * drag);
         let n = self.free.len();
-        let (free, moving) = (&self.free[..n], &self.moving[..n]);
+        let free = &self.free[..n];
         for axis in 0..3 {
-            let x = &mut self.x[axis][..n];
-            let v = &mut self.v[axis][..n];
-            let u = &mut self.u[axis][..n];
-            let a = &self.acceleration[axis][..n];
-            if predict_next {
-                for i in 0..n {
-                    x[i] += u[i];
-                    let velocity = v[i] + free[i] * (u[i] * inverse - v[i]);
-                    let accelerated = (velocity + h * a[i]) * keep;
-                    v[i] = velocity + free[i] * (accelerated - velocity);
-                    u[i] = moving[i] * h * v[i];
-                }
-            } else {
-                for i in 0..n {
-                    v[i] += free[i] * (u[i] * inverse - v[i]);
-                    x[i] += u[i];
-                }
+            let (x, v, u) = (
+                &mut self.x[axis][..n],
+                &mut self.v[axis][..n],
+                &self.u[axis][..n],
+            );
+            for i in 0..n {
+                x[i] += u[i];
+                v[i] += free[i] * (u[i] * inverse - v[i]);
             }
         }
     }
 
-    /// Copies the free particles back, putting back any that went non-finite or ran away
-    /// (position as at the start, at rest). Pins keep their target; burnt particles do not
-    /// move. Returns how many were put back.
-    fn write(&self, particles: &mut Particles, guard: &GuardSettings) -> u32 {
-        let mut repaired = 0;
-        let max_speed_squared = guard.max_speed * guard.max_speed;
-        for i in 0..particles.len() {
-            let slot = self.slot[i] as usize;
-            if self.free[slot] == 0.0 {
-                continue;
-            }
-            let p = glam::Vec3::new(self.x[0][slot], self.x[1][slot], self.x[2][slot]);
-            let v = glam::Vec3::new(self.v[0][slot], self.v[1][slot], self.v[2][slot]);
-            let blown =
-                !(p.is_finite() && v.is_finite() && v.length_squared() <= max_speed_squared);
-            if guard.enabled && blown {
-                particles.velocity[i] = glam::Vec3::ZERO;
-                repaired += 1;
-            } else {
-                particles.position[i] = p;
-                particles.velocity[i] = v;
+    /// Velocities take the outside accelerations (drag implicitly, so any step is stable) and
+    /// the particles move with them: `u = h v`.
+    fn predict(&mut self, h: f32, drag: f32) {
+        let keep = 1.0 / (1.0 + h * drag);
+        let n = self.free.len();
+        let (free, moving) = (&self.free[..n], &self.moving[..n]);
+        for axis in 0..3 {
+            let v = &mut self.v[axis][..n];
+            let a = &self.acceleration[axis][..n];
+            let u = &mut self.u[axis][..n];
+            for i in 0..n {
+                let accelerated = (v[i] + h * a[i]) * keep;
+                v[i] += free[i] * (accelerated - v[i]);
+                u[i] = moving[i] * h * v[i];
             }
         }
-        repaired
     }
 }
 

@@ -1,0 +1,38 @@
+//! Work split over Bevy's task pool: parts that touch disjoint data, run on the pool's
+//! threads (and the calling thread) when the crate is built with `parallel`, else one after
+//! another. Results never depend on how the parts are scheduled.
+
+use bevy::tasks::TaskPool;
+
+/// Runs `work` on every part: on `pool`'s threads when one is given and the crate is built
+/// with the `parallel` feature, else in order on this thread.
+pub fn for_each_part<T: Send>(
+    pool: Option<&TaskPool>,
+    parts: impl Iterator<Item = T>,
+    work: impl Fn(T) + Sync,
+) {
+    match pool.filter(|_| cfg!(feature = "parallel")) {
+        Some(pool) => {
+            let work = &work;
+            pool.scope(|scope| {
+                for part in parts {
+                    scope.spawn(async move { work(part) });
+                }
+            });
+        }
+        None => parts.for_each(work),
+    }
+}
+
+/// How many parts to cut a job of `n` items into for `pool` (its threads and the calling
+/// thread), each at least `smallest` items; 1 without a pool.
+pub fn parts_for(pool: Option<&TaskPool>, n: usize, smallest: usize) -> usize {
+    let threads = pool.map_or(1, |pool| 4 * (pool.thread_num() + 1));
+    threads.min(n / smallest.max(1)).max(1)
+}
+
+/// `slice` cut into `parts` consecutive pieces of nearly equal length.
+pub fn pieces<T>(slice: &mut [T], parts: usize) -> impl Iterator<Item = &mut [T]> {
+    let size = slice.len().div_ceil(parts.max(1)).max(1);
+    slice.chunks_mut(size)
+}
