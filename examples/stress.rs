@@ -1,21 +1,58 @@
-//! Measures the cost of simulating burning cloth: milliseconds per 1/60 s step and
-//! particle-substeps per millisecond, by cloth size and integrator.
+//! Measures what a burning cloth costs per 1/60 s frame, by size and solver, phase by phase;
+//! twenty small cloths against one big one through the plugin; and the smoke pool.
 //!
 //! ```sh
-//! cargo run --release --example stress --no-default-features --features smoke
+//! cargo run --release --example stress --no-default-features --features smoke,parallel
 //! ```
 //!
-//! Sizes 32 x 32 and 64 x 64. Each run: a cotton cloth pinned along its top edge, lit at the
-//! bottom centre, stepped 120 times (2 s) after a 30-step warm-up; the median of 3 runs is
-//! printed. With the `smoke` feature it also times the smoke pool on a 64 x 64 paper cloth
-//! lit at five points, at the default birth rates and at 8 times them (a dense pool),
-//! emission and motion timed separately, as live particles advanced per millisecond.
+//! Each run: a cotton cloth 1.5 m wide, pinned at every 4th particle of its top edge, lit at
+//! the bottom centre, burning for 2 s before the measured frames; the median of 5 runs (3 for
+//! the slow force-based solver) is printed. "frame" is the simulation step (heat, combustion, pieces, dynamics, culling)
+//! plus the smoke (with feature `smoke`) plus the CPU side of the mesh update
+//! ([`MeshData::update`]: local positions, normals, burn data). Threads: Bevy's compute task
+//! pool with a thread per core (Bevy's default leaves one on a 2-core machine).
 
 use bevy::math::{Affine3A, Vec3};
-use bevy_burning_cloth::sim::{BurnMaterial, ClothBuilder, ClothSim, Integrator};
-use std::time::Instant;
+use bevy::tasks::{ComputeTaskPool, TaskPool};
+use bevy_burning_cloth::sim::mesh::MeshData;
+use bevy_burning_cloth::sim::{
+    BurnMaterial, ClothBuilder, ClothSim, Integrator, PhaseTimes, SpringKind,
+};
+use std::time::{Duration, Instant};
 
-fn run(size: u32, integrator: Integrator) -> (f64, u32) {
+const DT: f32 = 1.0 / 60.0;
+
+/// One measured run: phase times per frame (ms), how the steps ran, and the hanging cloth's
+/// largest structural stretch before it was lit.
+#[derive(Clone, Copy, Default)]
+struct Run {
+    phases: [f64; 7],
+    substeps: u32,
+    integrator: Integrator,
+    stretch: f32,
+}
+
+impl Run {
+    fn total(&self) -> f64 {
+        self.phases.iter().sum()
+    }
+}
+
+const PHASES: [&str; 7] = [
+    "heat",
+    "combustion",
+    "pieces",
+    "dynamics",
+    "culling",
+    "smoke",
+    "mesh",
+];
+
+fn ms(duration: Duration) -> f64 {
+    duration.as_secs_f64() * 1e3
+}
+
+fn run(size: u32, integrator: Integrator, frames: u32, pool: &TaskPool) -> Run {
     let mut sim = ClothSim::new(
         &ClothBuilder::grid(size, size, 1.5 / size as f32).pin_top_every(4),
         BurnMaterial::COTTON,
@@ -24,23 +61,180 @@ fn run(size: u32, integrator: Integrator) -> (f64, u32) {
     .expect("valid cloth");
     sim.update_settings(|s| s.solver.integrator = integrator)
         .expect("valid integrator");
-    let grid = sim.topology.grid.unwrap();
-    sim.ignite(grid.index(size / 2, size - 2)).unwrap();
-    let dt = 1.0 / 60.0;
-    for _ in 0..30 {
-        sim.step(dt);
+    // Hang for 2 s, then measure the stretch and set it alight.
+    for _ in 0..120 {
+        sim.step_on(DT, Some(pool));
     }
-    let steps = 120;
-    let started = Instant::now();
-    let mut substeps = 0;
-    for _ in 0..steps {
-        substeps = sim.step(dt).substeps;
+    let stretch = sim
+        .springs
+        .max_stretch(&sim.particles.position, &sim.particles.state, |k| {
+            k == SpringKind::Structural
+        });
+    let grid = sim.topology.grid.expect("a grid");
+    sim.ignite(grid.index(size / 2, size - 2)).unwrap();
+    #[cfg(feature = "smoke")]
+    let mut smoke = bevy_burning_cloth::smoke::SmokeSim::new(Default::default()).unwrap();
+    let mut mesh = MeshData::default();
+    let to_local = sim.transform.inverse();
+    let mut frame = |sim: &mut ClothSim, times: Option<&mut Run>| {
+        let report = sim.step_on(DT, Some(pool));
+        let clock = Instant::now();
+        #[cfg(feature = "smoke")]
+        {
+            use bevy_burning_cloth::smoke::{Air, BurningCloth};
+            smoke.emit(&BurningCloth::of(sim), &Air::default(), DT);
+            smoke.advance(&Air::default(), DT);
+        }
+        let smoked = Instant::now();
+        mesh.update(
+            &sim.particles,
+            &sim.topology,
+            sim.material(),
+            to_local,
+            Some(pool),
+        );
+        let meshed = Instant::now();
+        if let Some(run) = times {
+            let PhaseTimes {
+                heat,
+                combustion,
+                pieces,
+                dynamics,
+                culling,
+            } = report.times;
+            let phases = [
+                heat,
+                combustion,
+                pieces,
+                dynamics,
+                culling,
+                smoked - clock,
+                meshed - smoked,
+            ];
+            for (sum, phase) in run.phases.iter_mut().zip(phases) {
+                *sum += ms(phase);
+            }
+            run.substeps = report.substeps;
+            run.integrator = report.integrator;
+        }
+    };
+    // Burn for 2 s, then measure.
+    for _ in 0..120 {
+        frame(&mut sim, None);
+    }
+    let mut measured = Run {
+        stretch,
+        ..Run::default()
+    };
+    for _ in 0..frames {
+        frame(&mut sim, Some(&mut measured));
+    }
+    for phase in &mut measured.phases {
+        *phase /= f64::from(frames);
     }
     assert!(sim.particles.is_finite());
-    (
-        started.elapsed().as_secs_f64() * 1e3 / f64::from(steps),
-        substeps,
-    )
+    measured
+}
+
+fn median(mut runs: Vec<Run>) -> Run {
+    runs.sort_by(|a, b| a.total().total_cmp(&b.total()));
+    runs[runs.len() / 2]
+}
+
+fn size_table(pool: &TaskPool) {
+    println!(
+        "| cloth | particles | solver chosen | ran as | substeps | ms per frame | ns per particle | heat | combustion | pieces | dynamics | culling | smoke | mesh | max stretch hanging |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for size in [32u32, 64, 128, 256] {
+        let particles = size * size;
+        for integrator in [Integrator::default(), Integrator::SymplecticEuler] {
+            // Fewer frames and runs for the slow one, so the table takes minutes, not hours.
+            let slow = !integrator.is_unconditionally_stable();
+            let frames = (1_000_000 / particles).clamp(10, 600) / if slow { 4 } else { 1 };
+            let repeats = if slow { 3 } else { 5 };
+            let runs = (0..repeats).map(|_| run(size, integrator, frames.max(5), pool));
+            let run = median(runs.collect());
+            let total = run.total();
+            let phases: Vec<String> = run.phases.iter().map(|p| format!("{p:.3}")).collect();
+            let default = if integrator == Integrator::default() {
+                " (default)"
+            } else {
+                ""
+            };
+            println!(
+                "| {size} x {size} | {particles} | {}{default} | {} | {} | {total:.3} | {:.0} | {} | {:.3} |",
+                integrator.name(),
+                run.integrator.name(),
+                run.substeps,
+                total * 1e6 / f64::from(particles),
+                phases.join(" | "),
+                run.stretch,
+            );
+        }
+    }
+    println!(
+        "\nColumns heat to mesh: ms per frame. {}. \"ran as\": a force-based solver that \
+         would need more than its 64-substep cap is stepped with XPBD.",
+        PHASES.join(", ")
+    );
+}
+
+/// Wall time of the simulation step of all cloths in an app (the plugin's `ClothStepTiming`),
+/// ms, median over `steps` steps after 2 s of burning.
+fn app_step_ms(cloths: &[(u32, Vec3)], steps: usize) -> f64 {
+    use bevy::prelude::*;
+    use bevy::time::TimeUpdateStrategy;
+    use bevy_burning_cloth::prelude::*;
+    let mut app = App::new();
+    // The task pools `main` made are Bevy's global pools; `TaskPoolPlugin` keeps them.
+    app.add_plugins((MinimalPlugins, BurningClothPlugins::default()))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f32(
+            DT,
+        )))
+        .insert_resource(Time::<Fixed>::from_seconds(f64::from(DT)));
+    let entities: Vec<Entity> = cloths
+        .iter()
+        .map(|&(size, at)| {
+            app.world_mut()
+                .spawn((
+                    ClothBuilder::grid(size, size, 0.75 / 32.0).pin_top_every(4),
+                    BurnMaterial::COTTON,
+                    Transform::from_translation(at),
+                ))
+                .id()
+        })
+        .collect();
+    app.update();
+    for (&entity, &(size, _)) in entities.iter().zip(cloths) {
+        let index = (size * (size - 2) + size / 2) as usize;
+        app.world_mut().trigger(Ignite::particle(entity, index));
+    }
+    for _ in 0..120 {
+        app.update();
+    }
+    let mut times: Vec<f64> = (0..steps)
+        .map(|_| {
+            app.update();
+            ms(app.world().resource::<ClothStepTiming>().last_step)
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+fn many_cloths_table() {
+    let twenty: Vec<(u32, Vec3)> = (0..20)
+        .map(|i| (32, Vec3::new((i % 5) as f32, 2.0 + (i / 5) as f32, 0.0)))
+        .collect();
+    // One cloth with about as many particles: 143² = 20 449 against 20 × 32² = 20 480.
+    let one = [(143u32, Vec3::new(0.0, 4.0, 0.0))];
+    println!("\n| scene (through the plugin) | particles | ms per step (median of 240) |");
+    println!("|---|---|---|");
+    let many = app_step_ms(&twenty, 240);
+    println!("| twenty 32 x 32 cloths | 20480 | {many:.3} |");
+    let single = app_step_ms(&one, 240);
+    println!("| one 143 x 143 cloth | 20449 | {single:.3} |");
 }
 
 /// Times the smoke pool on a burning cloth: (ms per step emitting, ms per step advancing,
@@ -64,20 +258,20 @@ fn smoke_run(capacity: usize, rate_scale: f32) -> (f64, f64, f64) {
         kind.rate *= rate_scale;
     }
     let mut smoke = SmokeSim::new(settings).expect("valid smoke");
-    let (dt, air) = (1.0 / 60.0, Air::default());
+    let air = Air::default();
     for _ in 0..240 {
-        cloth.step(dt);
-        smoke.emit(&BurningCloth::of(&cloth), &air, dt);
-        smoke.advance(&air, dt);
+        cloth.step(DT);
+        smoke.emit(&BurningCloth::of(&cloth), &air, DT);
+        smoke.advance(&air, DT);
     }
     let steps = 120;
     let (mut emitting, mut advancing, mut live) = (0.0, 0.0, 0.0);
     for _ in 0..steps {
-        cloth.step(dt);
+        cloth.step(DT);
         let started = Instant::now();
-        smoke.emit(&BurningCloth::of(&cloth), &air, dt);
+        smoke.emit(&BurningCloth::of(&cloth), &air, DT);
         let emitted = Instant::now();
-        smoke.advance(&air, dt);
+        smoke.advance(&air, DT);
         emitting += (emitted - started).as_secs_f64();
         advancing += emitted.elapsed().as_secs_f64();
         live += smoke.pool.live() as f64;
@@ -110,28 +304,20 @@ fn smoke_table() {
 }
 
 fn main() {
+    // Bevy's default pools give compute one thread on a 2-core machine, and its schedule
+    // runs systems on compute threads only: give compute every core, as a game that wants
+    // both cores for its simulation would (`TaskPoolPlugin { task_pool_options }`).
+    let mut pools = bevy::app::TaskPoolOptions::default();
+    pools.compute.min_threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    pools.create_default_pools();
+    let pool: &TaskPool = ComputeTaskPool::get();
     println!(
-        "| cloth | particles | integrator | substeps | ms per 1/60 s step | particle-substeps per ms |"
+        "compute pool: {} thread(s); feature parallel: {}\n",
+        pool.thread_num(),
+        cfg!(feature = "parallel")
     );
-    println!("|---|---|---|---|---|---|");
-    for size in [32u32, 64] {
-        for integrator in [
-            Integrator::SymplecticEuler,
-            Integrator::Verlet,
-            Integrator::Rk4,
-            Integrator::Xpbd,
-        ] {
-            let mut times: Vec<(f64, u32)> = (0..3).map(|_| run(size, integrator)).collect();
-            times.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let (ms, substeps) = times[1];
-            let particles = size * size;
-            println!(
-                "| {size} x {size} | {particles} | {} | {substeps} | {ms:.2} | {:.0} |",
-                integrator.name(),
-                f64::from(particles * substeps) / ms
-            );
-        }
-    }
+    size_table(pool);
+    many_cloths_table();
     #[cfg(feature = "smoke")]
     smoke_table();
 }

@@ -2,6 +2,7 @@
 
 use bevy::math::{Affine3A, Vec3};
 use bevy_burning_cloth::sim::derived::heat_params;
+use bevy_burning_cloth::sim::front::Front;
 use bevy_burning_cloth::sim::heat::{HeatWorkspace, paper_heat_step};
 use bevy_burning_cloth::sim::{BurnMaterial, BurnState, ClothBuilder, ClothSim, GridShape};
 
@@ -151,23 +152,17 @@ fn heat_only(sim: &mut ClothSim, steps: usize) {
     let params = heat_params(sim.settings(), &sim.topology);
     let material = *sim.material();
     let mut workspace = HeatWorkspace::default();
-    let p = &mut sim.particles;
+    let mut front = Front::default();
+    front.prepare(&sim.particles, &mut sim.springs, &mut sim.topology);
     for _ in 0..steps {
+        front.scan(&mut sim.particles, &sim.springs, &material, &mut Vec::new());
         paper_heat_step(
+            &front,
             &sim.springs,
-            &p.position,
-            &mut p.temperature,
-            &p.state,
+            &mut sim.particles,
             &params,
             &mut workspace,
             DT,
-        );
-        let mut burnt = Vec::new();
-        bevy_burning_cloth::sim::combustion::update_burn_states(
-            &p.temperature,
-            &mut p.state,
-            &material,
-            &mut burnt,
         );
     }
 }
@@ -294,4 +289,68 @@ fn a_piece_burnt_loose_falls_while_the_pinned_part_stays() {
     );
     let upper_moved = (centroid(&sim, &upper) - upper_start).length();
     assert!(upper_moved < 0.05, "the pinned part moved {upper_moved} m");
+}
+
+/// A 24 x 24 cotton cloth at 3 cm hanging from its top corners, its 8 x 8 centre held at
+/// 200 °C (below cotton's ignition, so it does not burn) for 3 s: those springs shrink to
+/// their floor. Returns the mean length / rest length of the structural springs inside the
+/// block and the width of the cloth across the block's middle row, m.
+fn shrunk_block(provot: bool) -> (f32, f32) {
+    let mut sim = hanging(24, 24, BurnMaterial::COTTON);
+    if !provot {
+        sim.update_settings(|s| s.solver.provot = None).unwrap();
+    }
+    let grid = grid_of(&sim);
+    let block: Vec<usize> = (8..16)
+        .flat_map(|row| (8..16).map(move |column| (column, row)))
+        .map(|(column, row)| grid.index(column, row))
+        .collect();
+    for _ in 0..180 {
+        for &i in &block {
+            sim.particles.temperature[i] = 200.0;
+        }
+        sim.step(1.0 / 60.0);
+    }
+    let inside = |i: u32| block.contains(&(i as usize));
+    let p = &sim.particles.position;
+    let stretches: Vec<f32> = (0..sim.springs.len())
+        .filter(|&s| {
+            sim.springs.kind[s] == bevy_burning_cloth::sim::SpringKind::Structural
+                && inside(sim.springs.a[s])
+                && inside(sim.springs.b[s])
+        })
+        .map(|s| {
+            let (a, b) = (sim.springs.a[s] as usize, sim.springs.b[s] as usize);
+            p[a].distance(p[b]) / sim.springs.rest_length[s]
+        })
+        .collect();
+    let width = p[grid.index(23, 12)].distance(p[grid.index(0, 12)]);
+    (
+        stretches.iter().sum::<f32>() / stretches.len() as f32,
+        width,
+    )
+}
+
+#[test]
+fn shrinking_springs_pull_the_cloth_in_rather_than_stretch() {
+    let material = BurnMaterial::COTTON;
+    let (held, held_width) = shrunk_block(true);
+    let (free, free_width) = shrunk_block(false);
+    // Held to Provot's 10 %, the block's springs stay near their shrunk length and the
+    // cloth pulls in across it; without the limit the cold cloth around holds the block
+    // open and its springs stretch towards their built length (1 / floor).
+    assert!(
+        held < 1.0 + 2.0 * 0.1,
+        "held to the limit: mean stretch {held}"
+    );
+    assert!(
+        free > held + 0.15,
+        "without the limit: {free} against {held}"
+    );
+    let built_width = 23.0 * 0.03;
+    assert!(
+        held_width < free_width && held_width < built_width * (1.0 - 0.05),
+        "pulled in: {held_width} m against {free_width} m (built {built_width} m, floor {})",
+        material.min_rest_fraction
+    );
 }

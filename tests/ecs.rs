@@ -193,8 +193,99 @@ fn a_falling_cloth_lands_on_a_collider_entity() {
     }
 }
 
+/// Spawns a 24 x 24 cotton cloth at 4 cm with springs of `stiffness` N/m, pinned along its
+/// top edge at y = 2 m, stepped by `solver`.
+fn spawn_stiff(app: &mut App, stiffness: f32, solver: SolverSettings) -> Entity {
+    let material = BurnMaterial {
+        structural_stiffness: stiffness,
+        shear_stiffness: stiffness,
+        bend_stiffness: 0.1 * stiffness,
+        ..BurnMaterial::COTTON
+    };
+    app.world_mut()
+        .spawn((
+            ClothBuilder::grid(24, 24, 0.04).pin_top_every(4),
+            material,
+            ClothSolver(solver),
+            Transform::from_xyz(0.0, 2.0, 0.0),
+        ))
+        .id()
+}
+
+/// Runs `steps`, returning the lowest particle's height and the largest distance any
+/// particle moved along z (the swing) after a 1 m/s push along z.
+fn hang_and_swing(app: &mut App, cloth: Entity, steps: u32) -> (f32, f32) {
+    app.update();
+    app.world_mut()
+        .get_mut::<ClothParticles>(cloth)
+        .unwrap()
+        .velocity
+        .fill(Vec3::new(0.0, 0.0, 1.0));
+    let mut swing = 0.0f32;
+    for _ in 0..steps {
+        app.update();
+        let particles = app.world().get::<ClothParticles>(cloth).unwrap();
+        assert!(particles.is_finite());
+        swing = particles
+            .position
+            .iter()
+            .fold(swing, |m, p| m.max(p.z.abs()));
+    }
+    for _ in 0..3 * 64 {
+        app.update();
+    }
+    let particles = app.world().get::<ClothParticles>(cloth).unwrap();
+    let bottom = particles
+        .position
+        .iter()
+        .map(|p| p.y)
+        .fold(f32::MAX, f32::min);
+    (bottom, swing)
+}
+
 #[test]
-fn a_cloth_too_stiff_for_its_substeps_stays_finite_and_says_so() {
+fn every_stiffness_from_1e1_to_1e7_hangs_and_swings_with_default_settings() {
+    // 23 rows of 4 cm below the pins: unstretched, the bottom edge hangs at 2 - 0.92 m.
+    let unstretched = 2.0 - 23.0 * 0.04;
+    for exponent in 1..=7 {
+        let mut app = app();
+        let cloth = spawn_stiff(&mut app, 10f32.powi(exponent), SolverSettings::default());
+        let (bottom, swing) = hang_and_swing(&mut app, cloth, 32);
+        let status = *app.world().get::<ClothStatus>(cloth).unwrap();
+        assert_eq!(status.repairs, 0, "1e{exponent}: {status:?}");
+        // At most the tethers' 3 % longer, and not frozen short of hanging.
+        assert!(
+            bottom < unstretched + 0.01 && bottom > unstretched - 0.03 * 0.92 - 0.01,
+            "1e{exponent} N/m: bottom at {bottom} m"
+        );
+        // The push moved it: a 1 m/s push for 0.5 s moves a cloth hung from its top edge
+        // several centimetres before its weight swings it back.
+        assert!(swing > 0.05, "1e{exponent} N/m: swung only {swing} m");
+    }
+}
+
+#[test]
+fn an_explicit_integrator_past_its_cap_is_switched_to_xpbd_not_frozen() {
+    // 1e4 and 1e6 N/m need far more than 64 symplectic Euler substeps at 4 cm.
+    let unstretched = 2.0 - 23.0 * 0.04;
+    for stiffness in [1e4, 1e6] {
+        let mut app = app();
+        let solver = SolverSettings {
+            integrator: Integrator::SymplecticEuler,
+            ..default()
+        };
+        let cloth = spawn_stiff(&mut app, stiffness, solver);
+        let (bottom, swing) = hang_and_swing(&mut app, cloth, 32);
+        let status = *app.world().get::<ClothStatus>(cloth).unwrap();
+        assert_eq!(status.integrator, Integrator::Xpbd, "{stiffness}");
+        assert_eq!(status.repairs, 0, "{stiffness}: {status:?}");
+        assert!((bottom - unstretched).abs() < 0.04, "{stiffness}: {bottom}");
+        assert!(swing > 0.05, "{stiffness}: swung only {swing} m");
+    }
+}
+
+#[test]
+fn without_the_fallback_the_guard_catches_a_cloth_too_stiff_and_says_so() {
     let mut app = app();
     #[derive(Resource, Default)]
     struct Repaired(u32);
@@ -203,30 +294,15 @@ fn a_cloth_too_stiff_for_its_substeps_stays_finite_and_says_so() {
             repaired.0 += event.repaired;
         },
     );
-    let stiff = BurnMaterial {
-        structural_stiffness: 1.0e7,
-        shear_stiffness: 1.0e7,
-        ..BurnMaterial::SILK
+    let solver = SolverSettings {
+        integrator: Integrator::SymplecticEuler,
+        stiff_fallback: false,
+        ..default()
     };
-    let cloth = app
-        .world_mut()
-        .spawn((
-            ClothBuilder::grid(10, 10, 0.03).pin_top_corners(),
-            stiff,
-            Transform::from_xyz(0.0, 1.0, 0.0),
-        ))
-        .id();
-    // Kick it so the stiff springs have something to do.
-    app.update();
-    app.world_mut()
-        .get_mut::<ClothParticles>(cloth)
-        .unwrap()
-        .velocity
-        .fill(Vec3::new(0.0, 0.0, 1.0));
-    for _ in 0..60 {
-        app.update();
-    }
+    let cloth = spawn_stiff(&mut app, 1e7, solver);
+    hang_and_swing(&mut app, cloth, 60);
     let status = *app.world().get::<ClothStatus>(cloth).unwrap();
+    assert_eq!(status.integrator, Integrator::SymplecticEuler);
     assert!(status.repairs > 0, "the guard never had to act: {status:?}");
     assert_eq!(app.world().resource::<Repaired>().0, status.repairs);
     assert!(

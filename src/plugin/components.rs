@@ -138,6 +138,9 @@ pub struct ClothStatus {
     pub live_triangles: u32,
     /// Substeps used by the latest fixed step.
     pub substeps: u32,
+    /// The integrator that ran the latest fixed step: the chosen one, or XPBD when a
+    /// force-based integrator would have needed more than its substep cap.
+    pub integrator: sim::Integrator,
     /// True from the first ignition until the fire goes out.
     pub burning: bool,
     /// Particles the blow-up guard has put back since the cloth was built.

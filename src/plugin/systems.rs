@@ -15,7 +15,9 @@ use super::{ClothColliders, ClothEnvironment};
 use crate::sim::{
     self, BurnMaterial, ClothBuilder, ClothMut, ClothSettings, MeshClothBuilder, StepInputs,
 };
+use bevy::ecs::batching::BatchingStrategy;
 use bevy::prelude::*;
+use bevy::tasks::{ComputeTaskPool, TaskPool};
 
 /// A component that describes a cloth to build: [`ClothBuilder`] (grids) and
 /// [`MeshClothBuilder`] (triangle meshes).
@@ -112,6 +114,7 @@ fn insert_cloth(
         pins_left: particles.pins_left() as u32,
         live_triangles: parts.topology.live_triangle_count() as u32,
         burnt: particles.count(sim::BurnState::Burnt) as u32,
+        integrator: settings.solver.integrator,
         ..default()
     };
     let scratch = ClothScratch(sim::ClothWorkspace::new(&settings, &parts.topology));
@@ -206,7 +209,14 @@ pub(crate) fn gather_colliders(
     }
 }
 
-/// Steps every cloth once (Simulate).
+/// Particles from which a cloth's own work is split over the compute pool; smaller cloths
+/// step one per task, side by side.
+const SPLIT_CLOTH_PARTICLES: usize = 8192;
+
+/// Steps every cloth once (Simulate): small cloths side by side on the compute task pool,
+/// each on one thread; big ones one after another, each split
+/// over the pool. Every cloth's step reads only the world gathered in Prepare, so neither the
+/// order nor the number of threads changes the result.
 pub(crate) fn simulate_cloths(
     time: Res<Time>,
     colliders: Res<ClothColliders>,
@@ -222,31 +232,72 @@ pub(crate) fn simulate_cloths(
     )>,
 ) {
     let dt = time.delta_secs();
-    for (entity, mut particles, mut springs, mut topology, mut in_use, mut scratch, transform) in
-        &mut cloths
-    {
-        let affine = transform.affine();
-        if !(affine.matrix3.is_finite() && affine.translation.is_finite()) {
-            warn_once!("cloth {entity}: non-finite transform, pins left where they were");
-        }
-        let inputs = StepInputs {
-            colliders: &colliders.0,
-            heat_sources: &sources.explicit,
-            fire_spread: Some(&sources.burning),
-            owner: entity.to_bits(),
-            ..StepInputs::new(dt, affine)
-        };
-        let in_use = &mut *in_use;
-        ClothMut {
-            particles: &mut particles.0,
-            springs: &mut springs.0,
-            topology: &mut topology.0,
-            settings: &in_use.settings,
-            workspace: &mut scratch.0,
-            outcome: &mut in_use.outcome,
-        }
-        .step(&inputs);
+    let world = Surroundings {
+        colliders: &colliders.0,
+        sources: &sources,
+        dt,
+    };
+    let is_small = |particles: &ClothParticles| particles.len() < SPLIT_CLOTH_PARTICLES;
+    // One cloth per task, so cloths of different sizes share the threads evenly. (Bevy runs
+    // this on one thread when its compute pool has one, as on a 2-core machine by default:
+    // see the README for giving it both cores.)
+    cloths
+        .par_iter_mut()
+        .batching_strategy(BatchingStrategy::fixed(1))
+        .for_each(|cloth| {
+            if is_small(&cloth.1) {
+                step_cloth(cloth, &world, None);
+            }
+        });
+    let pool = ComputeTaskPool::try_get().map(|pool| &**pool);
+    for cloth in cloths.iter_mut().filter(|cloth| !is_small(&cloth.1)) {
+        step_cloth(cloth, &world, pool);
     }
+}
+
+/// What every cloth steps against.
+struct Surroundings<'a> {
+    colliders: &'a [sim::WorldCollider],
+    sources: &'a ClothHeatSources,
+    dt: f32,
+}
+
+type ClothItem<'a> = (
+    Entity,
+    Mut<'a, ClothParticles>,
+    Mut<'a, ClothSprings>,
+    Mut<'a, ClothTopology>,
+    Mut<'a, ClothInUse>,
+    Mut<'a, ClothScratch>,
+    &'a GlobalTransform,
+);
+
+/// One cloth's step, its own work split over `pool` if given.
+fn step_cloth(cloth: ClothItem, world: &Surroundings, pool: Option<&TaskPool>) {
+    let (entity, mut particles, mut springs, mut topology, mut in_use, mut scratch, transform) =
+        cloth;
+    let affine = transform.affine();
+    if !(affine.matrix3.is_finite() && affine.translation.is_finite()) {
+        warn_once!("cloth {entity}: non-finite transform, pins left where they were");
+    }
+    let inputs = StepInputs {
+        colliders: world.colliders,
+        heat_sources: &world.sources.explicit,
+        fire_spread: Some(&world.sources.burning),
+        owner: entity.to_bits(),
+        pool,
+        ..StepInputs::new(world.dt, affine)
+    };
+    let in_use = &mut *in_use;
+    ClothMut {
+        particles: &mut particles.0,
+        springs: &mut springs.0,
+        topology: &mut topology.0,
+        settings: &in_use.settings,
+        workspace: &mut scratch.0,
+        outcome: &mut in_use.outcome,
+    }
+    .step(&inputs);
 }
 
 /// Writes each cloth's [`ClothStatus`] from its latest step and triggers the events
@@ -285,6 +336,17 @@ pub(crate) fn report_cloths(
         status.pins_left = report.pins_left;
         status.live_triangles = report.live_triangles;
         status.substeps = report.substeps;
+        let chosen = in_use.solver().integrator;
+        if report.integrator != chosen && report.integrator != status.integrator {
+            info!(
+                "cloth {entity}: {} would need more than {} substeps here; stepping it with {} \
+                 instead (SolverSettings::stiff_fallback)",
+                chosen.name(),
+                in_use.solver().max_substeps,
+                report.integrator.name(),
+            );
+        }
+        status.integrator = report.integrator;
         let burning = report.combustion.ignited > 0;
         if burning && !status.burning {
             commands.trigger(ClothIgnited { entity });
@@ -301,7 +363,7 @@ pub(crate) fn report_cloths(
             if status.repairs == 0 {
                 warn!(
                     "cloth {entity}: {repaired} particles blew up and were put back \
-                     (raise substeps or lower stiffness); further repairs are counted in \
+                     (use XPBD, raise substeps or lower stiffness); further repairs are counted in \
                      ClothStatus::repairs and reported by ClothInstability"
                 );
             }

@@ -4,7 +4,10 @@
 //! |---|---|
 //! | [`ClothRenderPlugin`] | gives each cloth a dynamic [`Mesh`] and a [`BurningClothMaterial`], updates the mesh in place each frame, ignites a cloth where it is clicked |
 //! | [`material`] | [`BurningClothMaterial`]: standard PBR plus scorch, char, glowing front and a smooth cut |
-//! | [`vertices`] | the vertex data: positions in the entity's frame, normals, burn data |
+//!
+//! The vertex data (positions in the entity's frame, normals, burn data) is computed by
+//! [`crate::sim::mesh`], in parts over Bevy's compute task pool; this module copies it into
+//! the mesh asset.
 //!
 //! The mesh is the cloth entity's own [`Mesh3d`]: positions are written in the entity's
 //! frame, so its `Transform` places the cloth once, not twice. Burnt triangles leave the index
@@ -21,19 +24,20 @@
 
 pub mod flammable;
 pub mod material;
-pub mod vertices;
 
 pub use flammable::Flammable;
 pub use material::{BurnExtension, BurnLook, BurningClothMaterial, burning_cloth_material};
 
 use crate::plugin::{ClothBuildSystems, ClothInUse, ClothParticles, ClothTopology, Ignite};
 use crate::sim::BurnMaterial;
+use crate::sim::mesh::MeshData;
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
 use bevy::pbr::{MaterialPlugin, PbrPlugin};
 use bevy::picking::PickingPlugin;
 use bevy::picking::mesh_picking::MeshPickingPlugin;
 use bevy::prelude::*;
+use bevy::tasks::ComputeTaskPool;
 
 /// Draws every cloth as a dynamic mesh and ignites cloths where they are clicked.
 pub struct ClothRenderPlugin;
@@ -90,9 +94,7 @@ impl Default for ClickToIgnite {
 /// The dynamic mesh of a cloth and the buffers its vertex data is assembled in.
 #[derive(Component, Debug, Default)]
 pub struct ClothMesh {
-    positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    burn: Vec<[f32; 2]>,
+    data: MeshData,
 }
 
 fn attach_cloth_meshes(
@@ -165,21 +167,16 @@ fn sync_cloth_meshes(
         let Some(mut mesh) = meshes.get_mut(&mesh3d.0) else {
             continue;
         };
-        let buffers = &mut *buffers;
+        let data = &mut buffers.data;
         let world_to_local = transform.affine().inverse();
-        vertices::local_positions(particles, world_to_local, &mut buffers.positions);
-        vertices::vertex_normals(
-            &buffers.positions,
-            &topology.live_indices,
-            &mut buffers.normals,
-        );
-        vertices::burn_attributes(particles, in_use.material(), &mut buffers.burn);
-        write_attribute(&mut mesh, Mesh::ATTRIBUTE_POSITION, &buffers.positions);
-        write_attribute(&mut mesh, Mesh::ATTRIBUTE_NORMAL, &buffers.normals);
+        let pool = ComputeTaskPool::try_get().map(|pool| &**pool);
+        data.update(particles, topology, in_use.material(), world_to_local, pool);
+        write_attribute(&mut mesh, Mesh::ATTRIBUTE_POSITION, &data.positions);
+        write_attribute(&mut mesh, Mesh::ATTRIBUTE_NORMAL, &data.normals);
         if let Some(VertexAttributeValues::Float32x2(burn)) =
             mesh.attribute_mut(Mesh::ATTRIBUTE_UV_1)
         {
-            copy_into(burn, &buffers.burn);
+            copy_into(burn, &data.burn);
         }
         if let Some(Indices::U32(indices)) = mesh.indices_mut() {
             copy_into(indices, &topology.live_indices);

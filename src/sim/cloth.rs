@@ -10,7 +10,7 @@ use super::heat_sources::WorldHeatSource;
 use super::ignition::{heat_particle, nearest_unburnt_particle};
 use super::material::BurnMaterial;
 use super::particles::Particles;
-use super::settings::{ClothSettings, Environment, SolverSettings};
+use super::settings::{ClothSettings, Environment, SolverSettings, StepPlan};
 use super::springs::Springs;
 use super::step::{ClothMut, StepInputs, StepOutcome, StepReport};
 use super::topology::Topology;
@@ -222,15 +222,22 @@ impl ClothSim {
         self.workspace.stable_step(&self.particles, &self.springs)
     }
 
+    /// Call after rewriting the cloth's burn states, temperatures or springs from outside
+    /// (restoring a burnt cloth to new): which particles burn, what is drawn and what hangs
+    /// from what are worked out anew at the next step. Memory is reused.
+    pub fn restart(&mut self) {
+        self.workspace.restart();
+    }
+
     /// Forgets the cached stable step: call after editing masses or springs by hand.
     pub fn forget_stable_step(&mut self) {
         self.workspace.forget_stable_step();
     }
 
-    /// Substeps a fixed step of `dt` seconds would use.
-    pub fn substeps_for(&mut self, dt: f32) -> u32 {
+    /// How a fixed step of `dt` seconds would be run: integrator and substeps.
+    pub fn plan(&mut self, dt: f32) -> StepPlan {
         let stable = self.stable_step();
-        self.settings.solver.substeps_for(dt, stable)
+        self.settings.solver.plan(dt, stable)
     }
 
     /// Advances the cloth by one fixed step of `dt` seconds through every phase, on this

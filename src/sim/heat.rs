@@ -18,10 +18,12 @@
 //! another layer) are heated through a [`SpatialHash`], not only grid neighbours.
 //!
 //! Increments are gathered in a buffer and applied together, so the result does not depend
-//! on the order particles are visited.
+//! on the order particles are visited. The work follows the fire: only the particles on fire
+//! (the [`Front`]'s list) push, and only the particles they reach are touched.
 
+use super::front::Front;
 use super::material::{BurnMaterial, MAX_TEMPERATURE};
-use super::particles::BurnState;
+use super::particles::{BurnState, Particles};
 use super::spatial_hash::SpatialHash;
 use super::springs::Springs;
 use glam::Vec3;
@@ -90,182 +92,184 @@ impl HeatParams {
     }
 }
 
-/// Scratch memory for a heat step: the increment buffer and the spatial hash.
+/// Scratch memory for a heat step: increments, the particles they touch, and the spatial
+/// hash.
 #[derive(Clone, Debug, Default)]
 pub struct HeatWorkspace {
-    /// Temperature increments of the step being assembled, °C.
-    pub delta: Vec<f32>,
-    /// Hash of unburnt particles for proximity heating.
-    pub hash: SpatialHash,
+    /// Temperature increments of the step being assembled, °C; zero outside `touched`.
+    delta: Vec<f32>,
+    /// The particles with an increment, and a mark per particle for being among them.
+    touched: Vec<u32>,
+    marked: Vec<bool>,
+    /// Hash of the unburnt particles near the fire, for proximity heating.
+    hash: SpatialHash,
 }
 
 impl HeatWorkspace {
     /// Heap memory held, bytes (capacity, not length).
     pub fn heap_bytes(&self) -> usize {
-        self.delta.capacity() * size_of::<f32>() + self.hash.heap_bytes()
+        (self.delta.capacity() + self.touched.capacity()) * size_of::<f32>()
+            + self.marked.capacity()
+            + self.hash.heap_bytes()
+    }
+
+    /// Sized for `n` particles (all increments zero).
+    fn prepare(&mut self, n: usize) {
+        if self.delta.len() != n {
+            self.delta.clear();
+            self.delta.resize(n, 0.0);
+            self.marked.clear();
+            self.marked.resize(n, false);
+            self.touched.clear();
+            self.touched.reserve(n);
+            self.hash.reserve(n);
+        }
+    }
+
+    /// Adds `amount` (°C) to particle `j`'s increment.
+    #[inline]
+    fn add(&mut self, j: usize, amount: f32) {
+        self.delta[j] += amount;
+        if !self.marked[j] {
+            self.marked[j] = true;
+            self.touched.push(j as u32);
+        }
+    }
+
+    /// Adds the increments to the temperatures of unburnt particles, keeping each within the
+    /// accepted range (non-finite increments are dropped), and clears them.
+    fn apply(&mut self, temperature: &mut [f32], state: &[BurnState]) {
+        for &j in &self.touched {
+            let j = j as usize;
+            let d = self.delta[j];
+            if !state[j].is_burnt() && d.is_finite() {
+                temperature[j] = (temperature[j] + d).min(MAX_TEMPERATURE);
+            }
+            self.delta[j] = 0.0;
+            self.marked[j] = false;
+        }
+        self.touched.clear();
     }
 }
 
-/// Adds one step of the paper's neighbour push and self-heating to `delta` (°C).
+/// Adds one step of the paper's push from every particle on fire to its neighbours, and its
+/// self-heating, to the workspace's increments.
 pub fn paper_heat_push(
+    front: &Front,
     springs: &Springs,
-    position: &[Vec3],
-    temperature: &[f32],
-    state: &[BurnState],
+    particles: &Particles,
     params: &HeatParams,
     h: f32,
-    delta: &mut [f32],
+    workspace: &mut HeatWorkspace,
 ) {
+    let (position, temperature, state) = (
+        &particles.position,
+        &particles.temperature,
+        &particles.state,
+    );
     let scale = params.spread_rate * h;
-    for s in 0..springs.len() {
-        if !springs.kind[s].is_in_plane() {
+    for &i in front.ignited() {
+        let i = i as usize;
+        // Put out from outside since the list was made (extinguished): no longer burning.
+        if !state[i].is_ignited() {
             continue;
         }
-        let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
-        let (state_a, state_b) = (state[a], state[b]);
-        if state_a.is_burnt() || state_b.is_burnt() {
-            continue;
+        let excess = (temperature[i] - params.initial_temperature).max(0.0);
+        for (_, j) in front.in_plane_neighbours(i, springs) {
+            if state[j].is_burnt() {
+                continue;
+            }
+            let direction = (position[j] - position[i]).normalize_or_zero();
+            let weight = direction_weight(direction.dot(params.up));
+            workspace.add(j, weight * scale * excess);
         }
-        let direction = (position[b] - position[a]).normalize_or_zero();
-        let cos_up = direction.dot(params.up);
-        if state_a.is_ignited() {
-            let excess = (temperature[a] - params.initial_temperature).max(0.0);
-            delta[b] += direction_weight(cos_up) * scale * excess;
-        }
-        if state_b.is_ignited() {
-            let excess = (temperature[b] - params.initial_temperature).max(0.0);
-            delta[a] += direction_weight(-cos_up) * scale * excess;
-        }
-    }
-    for (i, s) in state.iter().enumerate() {
-        if s.is_ignited() {
-            delta[i] += params.self_heating_rate * h;
-        }
+        workspace.add(i, params.self_heating_rate * h);
     }
 }
 
-/// Adds one step of proximity heating to `delta` (°C): every unburnt particle within
-/// `params.proximity_radius` of an ignited one gains heat, weighted by direction like the
-/// grid push and falling linearly to zero at the radius. `hash` must have been built over
-/// the unburnt particles with a cell size of at least the radius.
+/// Adds one step of proximity heating to the workspace's increments: every unburnt particle
+/// within `params.proximity_radius` of a particle on fire gains heat, weighted by direction
+/// like the grid push and falling linearly to zero at the radius. Only the particles inside
+/// the fire's bounding box (grown by the radius) are hashed.
 pub fn proximity_heat_push(
-    hash: &SpatialHash,
-    position: &[Vec3],
-    temperature: &[f32],
-    state: &[BurnState],
+    front: &Front,
+    particles: &Particles,
     params: &HeatParams,
     h: f32,
-    delta: &mut [f32],
+    workspace: &mut HeatWorkspace,
 ) {
+    let (position, temperature, state) = (
+        &particles.position,
+        &particles.temperature,
+        &particles.state,
+    );
     let radius = params.proximity_radius;
-    if !(radius > 0.0 && radius.is_finite()) {
+    if !(radius > 0.0 && radius.is_finite()) || front.ignited().is_empty() {
         return;
     }
+    let (mut low, mut high) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    for &i in front.ignited() {
+        let p = position[i as usize];
+        if p.is_finite() {
+            (low, high) = (low.min(p), high.max(p));
+        }
+    }
+    let (low, high) = (low - Vec3::splat(radius), high + Vec3::splat(radius));
+    let inside = |p: Vec3| p.cmpge(low).all() && p.cmple(high).all();
+    workspace.hash.build(position, radius, |j| {
+        !state[j].is_burnt() && inside(position[j])
+    });
     let scale = params.proximity_rate * h;
-    for i in 0..position.len() {
+    let hash = core::mem::take(&mut workspace.hash);
+    for &i in front.ignited() {
+        let i = i as usize;
         if !state[i].is_ignited() {
             continue;
         }
         let excess = (temperature[i] - params.initial_temperature).max(0.0);
         hash.for_each_within(position, position[i], radius, |j| {
-            if j == i || state[j].is_burnt() {
+            if j == i {
                 return;
             }
             let offset = position[j] - position[i];
             let distance = offset.length();
             let cos_up = offset.normalize_or_zero().dot(params.up);
             let falloff = 1.0 - distance / radius;
-            delta[j] += direction_weight(cos_up) * scale * excess * falloff;
+            workspace.add(j, direction_weight(cos_up) * scale * excess * falloff);
         });
     }
+    workspace.hash = hash;
 }
 
-/// Adds `delta` to the temperatures of unburnt particles, keeping each within the accepted
-/// range, and clears `delta`. Non-finite increments are dropped.
-pub fn apply_heat(temperature: &mut [f32], state: &[BurnState], delta: &mut [f32]) {
-    for ((t, d), s) in temperature.iter_mut().zip(delta.iter_mut()).zip(state) {
-        if !s.is_burnt() && d.is_finite() {
-            *t = (*t + *d).min(MAX_TEMPERATURE);
-        }
-        *d = 0.0;
-    }
-}
-
-/// One full step of the paper's heat model: neighbour push, self-heating and proximity
-/// heating, applied together.
+/// One full step of the paper's heat model: the push from the fire, self-heating and
+/// proximity heating, applied together (so the result does not depend on the order of the
+/// particles).
 pub fn paper_heat_step(
+    front: &Front,
     springs: &Springs,
-    position: &[Vec3],
-    temperature: &mut [f32],
-    state: &[BurnState],
+    particles: &mut Particles,
     params: &HeatParams,
     workspace: &mut HeatWorkspace,
     h: f32,
 ) {
-    workspace.delta.clear();
-    workspace.delta.resize(temperature.len(), 0.0);
-    paper_heat_push(
-        springs,
-        position,
-        temperature,
-        state,
-        params,
-        h,
-        &mut workspace.delta,
-    );
-    if proximity_heat_applies(params, state) {
-        add_proximity_heat(position, temperature, state, params, workspace, h);
-    }
-    apply_heat(temperature, state, &mut workspace.delta);
-}
-
-/// Whether proximity heating has anything to do: a reach, and something burning.
-fn proximity_heat_applies(params: &HeatParams, state: &[BurnState]) -> bool {
-    params.proximity_radius > 0.0 && state.iter().any(|s| s.is_ignited())
-}
-
-/// Adds proximity heating to `workspace.delta` (already sized): hashes the unburnt particles
-/// and lets every ignited one heat those within the proximity radius. Callers check
-/// [`proximity_heat_applies`] first, so no hash is built when there is nothing to do.
-fn add_proximity_heat(
-    position: &[Vec3],
-    temperature: &[f32],
-    state: &[BurnState],
-    params: &HeatParams,
-    workspace: &mut HeatWorkspace,
-    h: f32,
-) {
-    workspace
-        .hash
-        .build(position, params.proximity_radius, |j| !state[j].is_burnt());
-    proximity_heat_push(
-        &workspace.hash,
-        position,
-        temperature,
-        state,
-        params,
-        h,
-        &mut workspace.delta,
-    );
+    workspace.prepare(particles.len());
+    paper_heat_push(front, springs, particles, params, h, workspace);
+    proximity_heat_push(front, particles, params, h, workspace);
+    workspace.apply(&mut particles.temperature, &particles.state);
 }
 
 /// Proximity heating alone, applied at once: what the physical model adds for folds and
 /// layers that touch without a spring between them.
 pub fn proximity_heat_step(
-    position: &[Vec3],
-    temperature: &mut [f32],
-    state: &[BurnState],
+    front: &Front,
+    particles: &mut Particles,
     params: &HeatParams,
     workspace: &mut HeatWorkspace,
     h: f32,
 ) {
-    if !proximity_heat_applies(params, state) {
-        return;
-    }
-    workspace.delta.clear();
-    workspace.delta.resize(temperature.len(), 0.0);
-    add_proximity_heat(position, temperature, state, params, workspace, h);
-    apply_heat(temperature, state, &mut workspace.delta);
+    workspace.prepare(particles.len());
+    proximity_heat_push(front, particles, params, h, workspace);
+    workspace.apply(&mut particles.temperature, &particles.state);
 }
 
 #[cfg(test)]
@@ -291,19 +295,31 @@ mod tests {
 
     #[test]
     fn push_goes_four_times_harder_up_than_sideways() {
-        // Particle 0 ignited at the centre; 1 above, 2 to the side, 3 below.
-        let position = [Vec3::ZERO, Vec3::Y, Vec3::X, -Vec3::Y];
+        // Particle 0 on fire at the centre; 1 above, 2 to the side, 3 below.
+        let position = vec![Vec3::ZERO, Vec3::Y, Vec3::X, -Vec3::Y];
         let mut springs = Springs::default();
         for j in 1..4 {
             springs.push(0, j, 1.0, SpringKind::Structural);
         }
-        let temperature = [115.6, 15.6, 15.6, 15.6];
-        let state = [
-            BurnState::Ignited,
-            BurnState::Intact,
-            BurnState::Intact,
-            BurnState::Intact,
-        ];
+        let mut particles = crate::sim::Particles {
+            velocity: vec![Vec3::ZERO; 4],
+            mass: vec![1.0; 4],
+            inv_mass: vec![1.0; 4],
+            temperature: vec![115.6, 15.6, 15.6, 15.6],
+            state: vec![BurnState::Intact; 4],
+            anchor: position.clone(),
+            external_force: vec![Vec3::ZERO; 4],
+            position,
+        };
+        let material = BurnMaterial {
+            ignition_temperature: 100.0,
+            initial_temperature: 15.6,
+            ..BurnMaterial::CLOTH
+        };
+        let mut front = Front::default();
+        front.prepare(&particles, &mut springs, &mut Default::default());
+        front.scan(&mut particles, &springs, &material, &mut Vec::new());
+        assert_eq!(front.ignited(), &[0]);
         let params = HeatParams {
             spread_rate: 0.5,
             self_heating_rate: 0.0,
@@ -313,16 +329,10 @@ mod tests {
             proximity_rate: 0.0,
             physical: None,
         };
-        let mut delta = [0.0; 4];
-        paper_heat_push(
-            &springs,
-            &position,
-            &temperature,
-            &state,
-            &params,
-            0.1,
-            &mut delta,
-        );
+        let mut workspace = HeatWorkspace::default();
+        workspace.prepare(4);
+        paper_heat_push(&front, &springs, &particles, &params, 0.1, &mut workspace);
+        let delta = &workspace.delta;
         // Excess 100 °C × 0.5/s × 0.1 s = 5 °C sideways.
         assert!((delta[2] - 5.0).abs() < 1e-4);
         assert!((delta[1] - 20.0).abs() < 1e-4);
@@ -334,12 +344,17 @@ mod tests {
     }
 
     #[test]
-    fn apply_heat_clamps_and_skips_burnt() {
+    fn applied_heat_is_clamped_skips_burnt_and_clears() {
         let mut temperature = [10.0, 10.0, 10.0];
         let state = [BurnState::Intact, BurnState::Burnt, BurnState::Intact];
-        let mut delta = [1.0e9, 5.0, f32::NAN];
-        apply_heat(&mut temperature, &state, &mut delta);
+        let mut workspace = HeatWorkspace::default();
+        workspace.prepare(3);
+        for (j, amount) in [1.0e9, 5.0, f32::NAN].into_iter().enumerate() {
+            workspace.add(j, amount);
+        }
+        workspace.apply(&mut temperature, &state);
         assert_eq!(temperature, [MAX_TEMPERATURE, 10.0, 10.0]);
-        assert_eq!(delta, [0.0; 3]);
+        assert!(workspace.delta.iter().all(|&d| d == 0.0));
+        assert!(workspace.touched.is_empty());
     }
 }

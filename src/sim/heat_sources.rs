@@ -108,6 +108,18 @@ pub struct HashedHeatSources {
     pub hash: SpatialHash,
     /// The largest radius.
     pub reach: f32,
+    /// The box each owner's sources heat (their spheres' bounds), one entry per run of
+    /// sources pushed with the same owner: a cloth skips the others' fires that cannot reach
+    /// it with a few box tests.
+    owners: Vec<OwnerBounds>,
+}
+
+/// The box the sources of one owner heat, m.
+#[derive(Clone, Copy, Debug)]
+struct OwnerBounds {
+    owner: u64,
+    min: Vec3,
+    max: Vec3,
 }
 
 impl HashedHeatSources {
@@ -115,15 +127,29 @@ impl HashedHeatSources {
     pub fn clear(&mut self) {
         self.sources.clear();
         self.centres.clear();
+        self.owners.clear();
         self.reach = 0.0;
     }
 
     /// Adds a source; invalid ones are dropped.
     pub fn push(&mut self, source: WorldHeatSource) {
-        if source.is_valid() {
-            self.reach = self.reach.max(source.radius);
-            self.sources.push(source);
-            self.centres.push(source.centre);
+        if !source.is_valid() {
+            return;
+        }
+        self.reach = self.reach.max(source.radius);
+        self.sources.push(source);
+        self.centres.push(source.centre);
+        let (min, max) = (source.centre - source.radius, source.centre + source.radius);
+        match self.owners.last_mut() {
+            Some(last) if last.owner == source.owner => {
+                last.min = last.min.min(min);
+                last.max = last.max.max(max);
+            }
+            _ => self.owners.push(OwnerBounds {
+                owner: source.owner,
+                min,
+                max,
+            }),
         }
     }
 
@@ -132,15 +158,34 @@ impl HashedHeatSources {
         let reach = self.reach;
         self.hash.build(&self.centres, reach, |_| true);
     }
+
+    /// The part of `bounds` (min and max corners) that sources not owned by `owner` can heat,
+    /// or `None` when none reaches it.
+    fn foreign_reach(&self, owner: u64, bounds: (Vec3, Vec3)) -> Option<(Vec3, Vec3)> {
+        let mut region: Option<(Vec3, Vec3)> = None;
+        for other in self.owners.iter().filter(|o| o.owner != owner) {
+            let (min, max) = (other.min.max(bounds.0), other.max.min(bounds.1));
+            if min.cmple(max).all() {
+                region = Some(match region {
+                    Some((lo, hi)) => (lo.min(min), hi.max(max)),
+                    None => (min, max),
+                });
+            }
+        }
+        region
+    }
 }
 
-/// Heats the unburnt particles of the cloth `owner` from the hashed sources: each particle
-/// visits only the sources in its neighbouring cells. Sources owned by `owner` are skipped.
-/// Returns how many particle heatings happened.
+/// Heats the unburnt particles of the cloth `owner` (within `bounds`, their min and max
+/// corners) from the hashed sources. Only particles inside the boxes other owners' sources
+/// heat are looked up, and each visits only the sources in its neighbouring cells: a cloth no
+/// other fire reaches costs a few box tests. Sources owned by `owner` are skipped. Returns
+/// how many particle heatings happened.
 pub fn apply_hashed_heat_sources(
     position: &[Vec3],
     temperature: &mut [f32],
     state: &[BurnState],
+    bounds: (Vec3, Vec3),
     owner: u64,
     hashed: &HashedHeatSources,
     h: f32,
@@ -149,16 +194,20 @@ pub fn apply_hashed_heat_sources(
     if !(h.is_finite() && h > 0.0) || sources.is_empty() {
         return 0;
     }
+    let Some((lo, hi)) = hashed.foreign_reach(owner, bounds) else {
+        return 0;
+    };
     let mut heated = 0;
     for ((p, t), s) in position.iter().zip(temperature.iter_mut()).zip(state) {
-        if s.is_burnt() || !p.is_finite() {
+        let inside = p.cmpge(lo).all() && p.cmple(hi).all();
+        if !inside || s.is_burnt() {
             continue;
         }
         hashed
             .hash
             .for_each_within(&hashed.centres, *p, hashed.reach, |j| {
                 let source = &sources[j];
-                if source.owner != owner && source.is_valid() && source.heat(*p, t, h) {
+                if source.owner != owner && source.heat(*p, t, h) {
                     heated += 1;
                 }
             });
@@ -284,15 +333,23 @@ mod tests {
         hashed.push(source(Vec3::NAN, 1.0)); // dropped
         assert_eq!(hashed.sources.len(), 5);
         hashed.rebuild();
+        let bounds = unburnt_bounds(&position, &state).unwrap();
         let mut by_hash = vec![20.0f32; 50];
-        apply_hashed_heat_sources(&position, &mut by_hash, &state, 1, &hashed, 0.1);
+        apply_hashed_heat_sources(&position, &mut by_hash, &state, bounds, 1, &hashed, 0.1);
         let others: Vec<WorldHeatSource> = list.iter().copied().filter(|s| s.owner != 1).collect();
         let mut direct = vec![20.0f32; 50];
-        let bounds = unburnt_bounds(&position, &state).unwrap();
         apply_heat_sources(&position, &mut direct, &state, bounds, &others, 0.1);
         for (a, b) in by_hash.iter().zip(&direct) {
             assert!((a - b).abs() < 1e-3, "{a} vs {b}");
         }
         assert!(by_hash.iter().any(|&t| t > 20.0));
+        // A cloth 1 m away that no other owner's source reaches: nothing looked up or heated.
+        let far: Vec<Vec3> = position.iter().map(|p| *p + Vec3::Y).collect();
+        let far_bounds = unburnt_bounds(&far, &state).unwrap();
+        assert_eq!(hashed.foreign_reach(1, far_bounds), None);
+        let mut cold = vec![20.0f32; 50];
+        let heated =
+            apply_hashed_heat_sources(&far, &mut cold, &state, far_bounds, 1, &hashed, 0.1);
+        assert_eq!(heated, 0);
     }
 }

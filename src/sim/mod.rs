@@ -27,9 +27,11 @@
 //! | [`conduction`] | the physical heat model: conduction, convection, cooling, burning |
 //! | [`heat_sources`] | heat from torches, fireballs and other cloths' fires |
 //! | [`spatial_hash`] | the O(n) neighbour search behind proximity heating |
-//! | [`combustion`] | ignition, burning, rest-length shrink, extinguishing |
+//! | [`front`] | the burning front as lists: burn states, shrinking springs, drawn triangles |
+//! | [`combustion`] | extinguishing, and what a combustion update changed |
 //! | [`ignition`] | raising a particle to an ignition temperature |
 //! | [`topology`] | triangles and culling of burnt ones |
+//! | [`mesh`] | a cloth's vertex data for drawing: local positions, normals, burn data |
 //! | [`anchors`] | what each particle hangs from: nearest pin and distance through the cloth, kept up to date as it burns; pieces burnt loose |
 //! | [`energy`] | a cloth's mechanical energy |
 //! | [`parallel`] | work split over Bevy's task pool, the same result on any number of threads |
@@ -51,6 +53,7 @@ pub mod derived;
 pub mod energy;
 pub mod error;
 pub mod forces;
+pub mod front;
 pub mod grid;
 pub mod guard;
 pub mod heat;
@@ -58,6 +61,7 @@ pub mod heat_sources;
 pub mod ignition;
 pub mod integrate;
 pub mod material;
+pub mod mesh;
 pub mod mesh_cloth;
 pub mod parallel;
 pub mod particles;
@@ -84,12 +88,9 @@ pub use material::{BurnMaterial, MaterialError};
 pub use mesh_cloth::{MeshClothBuilder, MeshPins, PinRule};
 pub use particles::{BurnState, Particles};
 pub use provot::ProvotSettings;
-pub use settings::{
-    ClothSettings, Environment, HeatModel, PhysicalHeat, SolverSettings,
-    UNCONDITIONAL_AUTO_SUBSTEPS,
-};
+pub use settings::{ClothSettings, Environment, HeatModel, PhysicalHeat, SolverSettings, StepPlan};
 pub use spatial_hash::SpatialHash;
 pub use springs::{SpringCoefficients, SpringKind, Springs};
-pub use step::{ClothMut, StepInputs, StepOutcome, StepReport};
+pub use step::{ClothMut, PhaseTimes, StepInputs, StepOutcome, StepReport};
 pub use topology::{GridShape, Topology};
 pub use workspace::ClothWorkspace;

@@ -8,24 +8,35 @@ use super::material::BurnMaterial;
 use super::provot::ProvotSettings;
 use glam::Vec3;
 
-/// Most automatic substeps for an unconditionally stable integrator (XPBD's "small steps").
-pub const UNCONDITIONAL_AUTO_SUBSTEPS: u32 = 10;
-
 /// How the cloth is stepped: integrator, substeps, constraints, proximity heating.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverSettings {
     /// The time integrator.
     pub integrator: Integrator,
-    /// Substeps per fixed step. `None` picks enough for stability from the cloth's stiffest
-    /// spring and lightest particle (see [`stable_time_step`](super::integrate::stable_time_step)),
-    /// up to [`Self::max_substeps`].
+    /// Substeps per fixed step. `None` picks them: for XPBD, [`Self::substep_rate`]; for the
+    /// force-based integrators, enough for stability from the cloth's stiffest spring and
+    /// lightest particle (see [`stable_time_step`](super::integrate::stable_time_step)), up to
+    /// [`Self::max_substeps`].
     pub substeps: Option<u32>,
     /// Upper bound on automatic substeps.
     pub max_substeps: u32,
+    /// XPBD's automatic substeps per second of simulated time, Hz: its fixed budget ("small
+    /// steps"), the same at any resolution and stiffness. The default 360 Hz is 6 substeps
+    /// per 1/60 s or 1/64 s step: enough to keep the structural stretch of a hanging
+    /// 256 × 256 cotton curtain under 10 % with the default tethers (`examples/stress.rs`).
+    pub substep_rate: f32,
+    /// When a force-based integrator with automatic substeps would need more than
+    /// [`Self::max_substeps`] to be stable (a stiff or fine cloth), step that cloth with XPBD
+    /// instead, at [`Self::substep_rate`]; [`StepReport::integrator`](super::StepReport::integrator)
+    /// says which ran. `false` keeps the chosen integrator at its cap, where the blow-up guard
+    /// has to catch it.
+    pub stiff_fallback: bool,
     /// Fraction of the stability limit an automatic substep may use, in (0, 1].
     pub stability_safety: f32,
-    /// Provot's stretch limit for the force-based integrators, or `None` to turn it off.
-    /// XPBD limits stretch with its constraints and [`Self::tether_stretch`] instead.
+    /// Provot's stretch limit, or `None` to turn it off. The force-based integrators apply
+    /// it after every substep to every in-plane spring; XPBD, whose constraints and
+    /// [`Self::tether_stretch`] hold the rest of the cloth, once per step to the springs heat
+    /// has shrunk, so a burning cloth crumples rather than stretches.
     pub provot: Option<ProvotSettings>,
     /// XPBD's tethers (long-range attachments): no particle gets farther from the pin it
     /// hangs from than its distance through the cloth times `1 + tether_stretch` (0.05 is
@@ -48,9 +59,11 @@ impl Default for SolverSettings {
             integrator: Integrator::default(),
             substeps: None,
             max_substeps: 64,
+            substep_rate: 360.0,
+            stiff_fallback: true,
             stability_safety: 0.8,
             provot: Some(ProvotSettings::default()),
-            tether_stretch: Some(0.05),
+            tether_stretch: Some(0.03),
             proximity_radius_factor: 0.6,
             collision_margin_factor: 0.3,
             guard: GuardSettings::default(),
@@ -68,6 +81,9 @@ impl SolverSettings {
         }
         if self.max_substeps == 0 {
             return invalid("max_substeps", 0.0);
+        }
+        if !(self.substep_rate.is_finite() && self.substep_rate > 0.0) {
+            return invalid("substep_rate", self.substep_rate);
         }
         if !(self.stability_safety > 0.0 && self.stability_safety <= 1.0) {
             return invalid("stability_safety", self.stability_safety);
@@ -94,33 +110,54 @@ impl SolverSettings {
         self.heat_model.validate()
     }
 
-    /// Substeps for a fixed step of `dt` seconds given the cloth's stable step `stable`:
-    /// the fixed count if one is set, else the fewest keeping each substep within
-    /// `stability_safety × stable`, capped at `max_substeps` (for an unconditionally stable
-    /// integrator, capped at [`UNCONDITIONAL_AUTO_SUBSTEPS`] instead: more only adds accuracy).
-    pub fn substeps_for(&self, dt: f32, stable: f32) -> u32 {
+    /// How a fixed step of `dt` seconds is run, given the cloth's stable step `stable` (s):
+    /// the fixed count if one is set; for XPBD, [`Self::substep_rate`]; for a force-based
+    /// integrator, the fewest substeps keeping each within `stability_safety × stable`, or,
+    /// when that is more than [`Self::max_substeps`], XPBD if [`Self::stiff_fallback`] is on
+    /// (else the cap).
+    pub fn plan(&self, dt: f32, stable: f32) -> StepPlan {
+        let cap = self.max_substeps.max(1);
+        let plan = |integrator, substeps: u32| StepPlan {
+            integrator,
+            substeps: substeps.clamp(1, cap),
+        };
         if let Some(n) = self.substeps {
-            return n.max(1);
+            // A count the user chose is kept, beyond the automatic cap too.
+            return StepPlan {
+                integrator: self.integrator,
+                substeps: n.max(1),
+            };
         }
+        // Small tolerance so 1/60 s at 360 Hz is 6 substeps, not 7 by round-off.
+        let at_rate = |rate: f32| {
+            let n = (dt * rate - 1e-3).ceil();
+            if n.is_finite() { n as u32 } else { cap }
+        };
         if self.integrator.is_unconditionally_stable() {
-            let needed = Self {
-                integrator: Integrator::SymplecticEuler,
-                ..*self
-            }
-            .substeps_for(dt, stable);
-            return needed.min(UNCONDITIONAL_AUTO_SUBSTEPS);
+            return plan(self.integrator, at_rate(self.substep_rate));
         }
         let allowed = self.stability_safety * stable;
         if !(allowed.is_finite() && allowed > 0.0) {
-            return 1;
+            return plan(self.integrator, 1);
         }
         let needed = (dt / allowed).ceil();
-        if needed.is_finite() {
-            (needed as u32).clamp(1, self.max_substeps.max(1))
+        if needed.is_finite() && needed <= cap as f32 {
+            plan(self.integrator, needed as u32)
+        } else if self.stiff_fallback {
+            plan(Integrator::Xpbd, at_rate(self.substep_rate))
         } else {
-            self.max_substeps.max(1)
+            plan(self.integrator, cap)
         }
     }
+}
+
+/// How one fixed step is run: which integrator, how many substeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StepPlan {
+    /// The integrator that runs the step (the chosen one, or XPBD as the stiff fallback).
+    pub integrator: Integrator,
+    /// Substeps, at least 1.
+    pub substeps: u32,
 }
 
 /// How heat moves through a cloth.
@@ -270,17 +307,52 @@ mod tests {
 
     #[test]
     fn automatic_substeps_respect_the_stability_limit() {
-        let solver = SolverSettings::default();
-        assert_eq!(solver.substeps_for(1.0 / 60.0, 1.0), 1);
-        let n = solver.substeps_for(1.0 / 60.0, 1.0e-3);
+        let solver = SolverSettings {
+            integrator: Integrator::SymplecticEuler,
+            ..SolverSettings::default()
+        };
+        let substeps = |dt, stable| solver.plan(dt, stable).substeps;
+        assert_eq!(substeps(1.0 / 60.0, 1.0), 1);
+        let n = substeps(1.0 / 60.0, 1.0e-3);
         assert!((1.0 / 60.0) / n as f32 <= 0.8e-3, "{n}");
-        assert_eq!(solver.substeps_for(1.0, 1.0e-9), solver.max_substeps);
-        assert_eq!(solver.substeps_for(1.0, f32::NAN), 1);
+        assert_eq!(substeps(1.0, f32::NAN), 1);
         let fixed = SolverSettings {
             substeps: Some(7),
             ..solver
         };
-        assert_eq!(fixed.substeps_for(1.0, 1e-9), 7);
+        assert_eq!(fixed.plan(1.0, 1e-9).substeps, 7);
+    }
+
+    #[test]
+    fn a_force_based_integrator_past_its_cap_falls_back_to_xpbd() {
+        let solver = SolverSettings {
+            integrator: Integrator::SymplecticEuler,
+            ..SolverSettings::default()
+        };
+        // 1e-9 s stable step: 1.7e7 substeps needed at 1/60 s.
+        let plan = solver.plan(1.0 / 60.0, 1e-9);
+        assert_eq!(plan.integrator, Integrator::Xpbd);
+        assert_eq!(plan.substeps, 6, "360 Hz at 1/60 s");
+        let capped = SolverSettings {
+            stiff_fallback: false,
+            ..solver
+        };
+        let plan = capped.plan(1.0 / 60.0, 1e-9);
+        assert_eq!(plan.integrator, Integrator::SymplecticEuler);
+        assert_eq!(plan.substeps, solver.max_substeps);
+    }
+
+    #[test]
+    fn xpbd_substeps_follow_the_rate_not_the_stiffness() {
+        let solver = SolverSettings::default();
+        assert_eq!(solver.integrator, Integrator::Xpbd);
+        for stable in [1.0, 1e-3, 1e-9, f32::NAN] {
+            assert_eq!(solver.plan(1.0 / 60.0, stable).substeps, 6);
+            assert_eq!(solver.plan(1.0 / 64.0, stable).substeps, 6);
+            assert_eq!(solver.plan(1.0 / 30.0, stable).substeps, 12);
+        }
+        assert_eq!(solver.plan(1e-6, 1.0).substeps, 1);
+        assert_eq!(solver.plan(1e9, 1.0).substeps, solver.max_substeps);
     }
 
     #[test]

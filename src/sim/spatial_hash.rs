@@ -16,8 +16,13 @@ pub struct SpatialHash {
     bucket_start: Vec<u32>,
     /// Point indices sorted by bucket.
     entries: Vec<u32>,
+    /// The cell of each entry: a query visits an entry only from its own cell, so a bucket
+    /// that two of the 27 cells share is not counted twice.
+    entry_cells: Vec<IVec3>,
     /// Bucket of each inserted point (scratch for the counting sort).
     point_bucket: Vec<u32>,
+    /// Cell of each inserted point (scratch for the counting sort).
+    point_cell: Vec<IVec3>,
 }
 
 impl SpatialHash {
@@ -27,23 +32,31 @@ impl SpatialHash {
     /// position is left out, as is every point when `cell_size` is not positive and finite.
     pub fn build(&mut self, positions: &[Vec3], cell_size: f32, include: impl Fn(usize) -> bool) {
         self.cell_size = cell_size;
-        let table = (2 * positions.len()).max(1);
+        // About two buckets per included point: the table grows with what is hashed, not with
+        // the cloth.
+        let included = (0..positions.len()).filter(|&i| include(i)).count();
+        // A power of two, so a bucket is a shift, not a division.
+        let table = (2 * included).max(2).next_power_of_two();
         self.bucket_start.clear();
         self.bucket_start.resize(table + 1, 0);
         self.point_bucket.clear();
+        self.point_cell.clear();
         self.entries.clear();
+        self.entry_cells.clear();
         if !(cell_size.is_finite() && cell_size > 0.0) {
             return;
         }
         for (i, &p) in positions.iter().enumerate() {
-            let bucket = if include(i) && p.is_finite() {
-                let bucket = self.bucket_of(self.cell_of(p));
+            let (bucket, cell) = if include(i) && p.is_finite() {
+                let cell = self.cell_of(p);
+                let bucket = self.bucket_of(cell);
                 self.bucket_start[bucket as usize] += 1;
-                bucket
+                (bucket, cell)
             } else {
-                u32::MAX
+                (u32::MAX, IVec3::ZERO)
             };
             self.point_bucket.push(bucket);
+            self.point_cell.push(cell);
         }
         // An inclusive prefix sum turns counts into end offsets; filling backwards then
         // decrements each to its start.
@@ -53,11 +66,13 @@ impl SpatialHash {
             *start = running;
         }
         self.entries.resize(running as usize, 0);
+        self.entry_cells.resize(running as usize, IVec3::ZERO);
         for (i, &bucket) in self.point_bucket.iter().enumerate().rev() {
             if bucket != u32::MAX {
                 let slot = &mut self.bucket_start[bucket as usize];
                 *slot -= 1;
                 self.entries[*slot as usize] = i as u32;
+                self.entry_cells[*slot as usize] = self.point_cell[i];
             }
         }
     }
@@ -77,23 +92,19 @@ impl SpatialHash {
         let radius = radius.min(self.cell_size);
         let radius_squared = radius * radius;
         let centre = self.cell_of(point);
-        // Distinct cells can share a bucket; visit each bucket once per query.
-        let mut seen = [u32::MAX; 27];
-        let mut seen_count = 0;
         for dz in -1..=1 {
             for dy in -1..=1 {
                 for dx in -1..=1 {
-                    let bucket = self.bucket_of(centre + IVec3::new(dx, dy, dz));
-                    if seen[..seen_count].contains(&bucket) {
-                        continue;
-                    }
-                    seen[seen_count] = bucket;
-                    seen_count += 1;
-                    let range = self.bucket_start[bucket as usize] as usize
-                        ..self.bucket_start[bucket as usize + 1] as usize;
-                    for &j in &self.entries[range] {
+                    let cell = centre + IVec3::new(dx, dy, dz);
+                    let bucket = self.bucket_of(cell) as usize;
+                    let range =
+                        self.bucket_start[bucket] as usize..self.bucket_start[bucket + 1] as usize;
+                    for (&j, &at) in self.entries[range.clone()]
+                        .iter()
+                        .zip(&self.entry_cells[range])
+                    {
                         let j = j as usize;
-                        if positions[j].distance_squared(point) <= radius_squared {
+                        if at == cell && positions[j].distance_squared(point) <= radius_squared {
                             visit(j);
                         }
                     }
@@ -102,10 +113,25 @@ impl SpatialHash {
         }
     }
 
+    /// Makes room for hashing up to `points` points, so building never allocates after.
+    pub fn reserve(&mut self, points: usize) {
+        let reserve = |v: &mut Vec<u32>, wanted: usize| v.reserve(wanted.saturating_sub(v.len()));
+        reserve(
+            &mut self.bucket_start,
+            (2 * points).max(2).next_power_of_two() + 1,
+        );
+        reserve(&mut self.entries, points);
+        reserve(&mut self.point_bucket, points);
+        let reserve = |v: &mut Vec<IVec3>, wanted: usize| v.reserve(wanted.saturating_sub(v.len()));
+        reserve(&mut self.entry_cells, points);
+        reserve(&mut self.point_cell, points);
+    }
+
     /// Heap memory held, bytes (capacity, not length).
     pub fn heap_bytes(&self) -> usize {
         (self.bucket_start.capacity() + self.entries.capacity() + self.point_bucket.capacity())
             * size_of::<u32>()
+            + (self.entry_cells.capacity() + self.point_cell.capacity()) * size_of::<IVec3>()
     }
 
     fn cell_of(&self, p: Vec3) -> IVec3 {
@@ -117,7 +143,10 @@ impl SpatialHash {
         let h = (cell.x.wrapping_mul(92_837_111))
             ^ (cell.y.wrapping_mul(689_287_499))
             ^ (cell.z.wrapping_mul(283_923_481));
-        (h.unsigned_abs() as usize % (self.bucket_start.len() - 1)) as u32
+        // Fibonacci hashing: the top bits of a multiply mix every bit of `h`. The table
+        // (`bucket_start.len() - 1`) is a power of two of at least 2.
+        let bits = (self.bucket_start.len() - 1).trailing_zeros();
+        (h as u32).wrapping_mul(0x9E37_79B9) >> (32 - bits)
     }
 }
 
@@ -153,6 +182,25 @@ mod tests {
                 .filter(|&j| j % 7 != 0 && positions[j].distance(p) <= radius)
                 .collect();
             assert_eq!(found, expected, "point {i}");
+        }
+    }
+
+    #[test]
+    fn cells_that_share_a_bucket_are_each_visited_once() {
+        // Three points in a table of six buckets: most of the 27 cells around a query share
+        // buckets; every point is still found once.
+        let positions = [
+            Vec3::ZERO,
+            Vec3::new(0.05, 0.0, 0.0),
+            Vec3::new(0.0, 0.05, 0.05),
+        ];
+        let mut hash = SpatialHash::default();
+        hash.build(&positions, 0.1, |_| true);
+        for p in positions {
+            let mut found = Vec::new();
+            hash.for_each_within(&positions, p, 0.1, |j| found.push(j));
+            found.sort_unstable();
+            assert_eq!(found, vec![0, 1, 2]);
         }
     }
 

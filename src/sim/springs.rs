@@ -45,7 +45,8 @@ pub struct Springs {
     pub kind: Vec<SpringKind>,
     /// Particles each spring passes over, [`NO_SPAN`] where none: a bending spring spans the
     /// particle between its ends (grid) or the edge between its ends (mesh). When one of them
-    /// burns, the cloth the spring stood for is gone and [`Springs::sever_spanning`] cuts it.
+    /// burns, the cloth the spring stood for is gone and the combustion phase cuts it (moves
+    /// its second end to the burnt particle, so every loop that checks its ends finds it dead).
     pub spans: Vec<[u32; 2]>,
 }
 
@@ -79,27 +80,6 @@ impl Springs {
         if let Some(last) = self.spans.last_mut() {
             *last = spans;
         }
-    }
-
-    /// Cuts every live spring that passes over a burnt particle, so no force crosses a burnt
-    /// gap (a bending spring would otherwise hold a burnt-loose piece on). A cut spring's
-    /// second end is redirected to the burnt particle it spanned, which makes it dead for
-    /// every loop that checks its ends. Returns how many were cut. Cheap to call when nothing
-    /// burnt: one pass over the springs.
-    pub fn sever_spanning(&mut self, state: &[BurnState]) -> u32 {
-        let mut cut = 0;
-        for s in 0..self.len() {
-            for span in self.spans[s] {
-                if span != NO_SPAN
-                    && state.get(span as usize).is_some_and(|st| st.is_burnt())
-                    && self.is_live(s, state)
-                {
-                    self.b[s] = span;
-                    cut += 1;
-                }
-            }
-        }
-        cut
     }
 
     /// Number of springs of one kind.

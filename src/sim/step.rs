@@ -19,8 +19,9 @@
 
 use super::anchors::DetachedPiece;
 use super::collision::{WorldCollider, resolve_collisions};
-use super::combustion::{CombustionReport, shrink_rest_lengths, update_burn_states};
+use super::combustion::CombustionReport;
 use super::conduction::{Air, conduction_step};
+use super::front::Counts;
 use super::guard::BlowUpGuard;
 use super::heat::{paper_heat_step, proximity_heat_step};
 use super::heat_sources::{
@@ -28,13 +29,15 @@ use super::heat_sources::{
     unburnt_bounds,
 };
 use super::integrate::{Integrator, drive_pins, integrate};
-use super::particles::{BurnState, Particles};
+use super::particles::Particles;
 use super::provot::{ProvotReport, provot_correct};
-use super::settings::ClothSettings;
+use super::settings::{ClothSettings, StepPlan};
 use super::springs::Springs;
-use super::topology::{Topology, cull_triangles};
+use super::topology::Topology;
 use super::workspace::ClothWorkspace;
-use super::xpbd::Surroundings;
+use super::xpbd::{StretchLimit, Surroundings};
+use bevy::platform::time::Instant;
+use core::time::Duration;
 use glam::{Affine3A, Vec3};
 
 /// The world as one cloth's step sees it.
@@ -72,11 +75,37 @@ impl<'a> StepInputs<'a> {
     }
 }
 
+/// Wall time of each phase of a step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PhaseTimes {
+    /// Pins and heat: the heat model, heat sources, other cloths' fires.
+    pub heat: Duration,
+    /// Burn states, cut springs, shrinking rest lengths.
+    pub combustion: Duration,
+    /// What hangs from what, and the pieces that came loose.
+    pub pieces: Duration,
+    /// The substeps and the blow-up guard.
+    pub dynamics: Duration,
+    /// Removing burnt triangles from the drawn list.
+    pub culling: Duration,
+}
+
+impl PhaseTimes {
+    /// The whole step.
+    pub fn total(&self) -> Duration {
+        self.heat + self.combustion + self.pieces + self.dynamics + self.culling
+    }
+}
+
 /// What one step did, in numbers.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepReport {
     /// Substeps run.
     pub substeps: u32,
+    /// The integrator that ran: the chosen one, or XPBD when a force-based integrator would
+    /// have needed more than its substep cap (see
+    /// [`SolverSettings::stiff_fallback`](super::SolverSettings::stiff_fallback)).
+    pub integrator: Integrator,
     /// Combustion changes.
     pub combustion: CombustionReport,
     /// Provot's report from the last substep, if enabled.
@@ -89,6 +118,8 @@ pub struct StepReport {
     pub pins_left: u32,
     /// Triangles drawn, after the step.
     pub live_triangles: u32,
+    /// Wall time of each phase.
+    pub times: PhaseTimes,
 }
 
 /// What the latest step did: its report, the particles that burnt away in it and the pieces
@@ -146,19 +177,37 @@ impl ClothMut<'_> {
             self.outcome.report = StepReport::default();
             return;
         }
+        let mut times = PhaseTimes::default();
+        let mut clock = Instant::now();
+        let mut lap = |phase: &mut Duration| {
+            let now = Instant::now();
+            *phase = now - clock;
+            clock = now;
+        };
+        self.workspace
+            .front
+            .prepare(self.particles, self.springs, self.topology);
         self.drive_pins(inputs);
         self.heat(inputs);
-        let combustion = self.combust(inputs.dt);
-        let (substeps, provot, repaired) = self.dynamics(inputs);
+        lap(&mut times.heat);
+        let (combustion, counts) = self.combust(inputs.dt);
+        lap(&mut times.combustion);
+        self.hang();
+        lap(&mut times.pieces);
+        let (plan, provot, repaired) = self.dynamics(inputs);
+        lap(&mut times.dynamics);
         self.cull();
+        lap(&mut times.culling);
         self.outcome.report = StepReport {
-            substeps,
+            substeps: plan.substeps,
+            integrator: plan.integrator,
             combustion,
             provot,
             repaired,
-            burnt: self.particles.count(BurnState::Burnt) as u32,
-            pins_left: self.particles.pins_left() as u32,
+            burnt: counts.burnt,
+            pins_left: counts.pins_left,
             live_triangles: self.topology.live_triangle_count() as u32,
+            times,
         };
     }
 
@@ -166,7 +215,8 @@ impl ClothMut<'_> {
     fn drive_pins(&mut self, inputs: &StepInputs) {
         let affine = inputs.transform;
         if affine.matrix3.is_finite() && affine.translation.is_finite() {
-            drive_pins(self.particles, affine, inputs.dt);
+            let pins = self.workspace.front.pins();
+            drive_pins(self.particles, pins, affine, inputs.dt);
         }
     }
 
@@ -174,47 +224,48 @@ impl ClothMut<'_> {
     fn heat(&mut self, inputs: &StepInputs) {
         let h = inputs.dt;
         let particles = &mut *self.particles;
-        let params = &self.workspace.derived.heat;
-        let workspace = &mut self.workspace.heat;
+        let ClothWorkspace {
+            derived,
+            heat,
+            front,
+            conduction,
+            ..
+        } = &mut *self.workspace;
+        let params = &derived.heat;
         match &params.physical {
-            None => paper_heat_step(
-                self.springs,
-                &particles.position,
-                &mut particles.temperature,
-                &particles.state,
-                params,
-                workspace,
-                h,
-            ),
+            None => paper_heat_step(front, self.springs, particles, params, heat, h),
             Some(physical) => {
-                let air = Air {
-                    temperature: params.initial_temperature,
-                    up: params.up,
-                };
-                conduction_step(
-                    self.springs,
-                    &particles.position,
-                    &particles.mass,
-                    &mut particles.temperature,
-                    &particles.state,
-                    physical,
-                    air,
-                    &mut workspace.delta,
-                    h,
-                );
-                proximity_heat_step(
-                    &particles.position,
-                    &mut particles.temperature,
-                    &particles.state,
-                    params,
-                    workspace,
-                    h,
-                );
+                // Nothing to conduct until something has been warm.
+                if front.any_warm() {
+                    let air = Air {
+                        temperature: params.initial_temperature,
+                        up: params.up,
+                    };
+                    conduction_step(
+                        self.springs,
+                        &particles.position,
+                        &particles.mass,
+                        &mut particles.temperature,
+                        &particles.state,
+                        physical,
+                        air,
+                        conduction,
+                        h,
+                    );
+                }
+                proximity_heat_step(front, particles, params, heat, h);
             }
         }
-        if !inputs.heat_sources.is_empty()
-            && let Some(bounds) = unburnt_bounds(&particles.position, &particles.state)
-        {
+        let spreading = inputs
+            .fire_spread
+            .filter(|spread| !spread.sources.is_empty());
+        if inputs.heat_sources.is_empty() && spreading.is_none() {
+            return;
+        }
+        let Some(bounds) = unburnt_bounds(&particles.position, &particles.state) else {
+            return;
+        };
+        if !inputs.heat_sources.is_empty() {
             apply_heat_sources(
                 &particles.position,
                 &mut particles.temperature,
@@ -224,13 +275,12 @@ impl ClothMut<'_> {
                 h,
             );
         }
-        if let Some(spread) = inputs.fire_spread
-            && !spread.sources.is_empty()
-        {
+        if let Some(spread) = spreading {
             apply_hashed_heat_sources(
                 &particles.position,
                 &mut particles.temperature,
                 &particles.state,
+                bounds,
                 inputs.owner,
                 spread,
                 h,
@@ -238,51 +288,48 @@ impl ClothMut<'_> {
         }
     }
 
-    /// Phase 3: burn states from temperatures; spans over newly burnt particles cut; rest
-    /// lengths shrink by `h` seconds of heat; pieces that lost every pin are found.
-    fn combust(&mut self, h: f32) -> CombustionReport {
+    /// Phase 3: burn states from temperatures; springs over newly burnt particles cut; rest
+    /// lengths shrink by `h` seconds of heat; what hangs from what brought up to date (pieces
+    /// that lost every pin found).
+    fn combust(&mut self, h: f32) -> (CombustionReport, Counts) {
         let particles = &mut *self.particles;
         let newly_burnt = &mut self.outcome.newly_burnt;
         // Room for every particle once, so a big burn never reallocates mid-game.
         newly_burnt.reserve(particles.len());
         self.outcome.detached.reserve(particles.len());
         let material = &self.settings.material;
-        let report = update_burn_states(
-            &particles.temperature,
-            &mut particles.state,
-            material,
-            newly_burnt,
-        );
+        let front = &mut self.workspace.front;
+        let (report, counts) = front.scan(particles, self.springs, material, newly_burnt);
         if !newly_burnt.is_empty() {
-            self.springs.sever_spanning(&particles.state);
+            front.sever(self.springs, &particles.state, newly_burnt);
         }
-        shrink_rest_lengths(
-            self.springs,
-            &particles.temperature,
-            &particles.state,
-            material,
-            &self.workspace.derived.force.coefficients,
-            h,
-        );
-        self.workspace.anchors.update(
-            particles,
-            self.springs,
-            newly_burnt,
-            &mut self.outcome.detached,
-        );
-        report
+        let coefficients = &self.workspace.derived.force.coefficients;
+        front.shrink(self.springs, particles, material, coefficients, h);
+        (report, counts)
     }
 
-    /// Phase 4: the substeps and the blow-up guard. Returns the substeps run, Provot's report
-    /// from the last substep and the particles put back.
-    fn dynamics(&mut self, inputs: &StepInputs) -> (u32, Option<ProvotReport>, u32) {
+    /// Phase 3b: what each particle hangs from, after this step's burns; the pieces that lost
+    /// every pin.
+    fn hang(&mut self) {
+        self.workspace.anchors.update(
+            self.particles,
+            self.springs,
+            &self.outcome.newly_burnt,
+            &mut self.outcome.detached,
+        );
+    }
+
+    /// Phase 4: the substeps and the blow-up guard. Returns how the step ran, Provot's
+    /// report from the last substep and the particles put back.
+    fn dynamics(&mut self, inputs: &StepInputs) -> (StepPlan, Option<ProvotReport>, u32) {
         let solver = &self.settings.solver;
         let stable = self.workspace.stable_step(self.particles, self.springs);
-        let substeps = solver.substeps_for(inputs.dt, stable);
+        let plan = solver.plan(inputs.dt, stable);
+        let substeps = plan.substeps;
         let h = inputs.dt / substeps as f32;
         let workspace = &mut *self.workspace;
         let margin = solver.collision_margin_factor * self.topology.spacing;
-        if solver.integrator == Integrator::Xpbd {
+        if plan.integrator == Integrator::Xpbd {
             let around = Surroundings {
                 params: &workspace.derived.force,
                 colliders: inputs.colliders,
@@ -291,6 +338,11 @@ impl ClothMut<'_> {
                 tethers: solver
                     .tether_stretch
                     .map(|stretch| (&workspace.anchors, stretch)),
+                stretch_limit: solver.provot.map(|provot| StretchLimit {
+                    springs: workspace.front.shrinking(),
+                    stretch: provot.max_stretch,
+                    passes: provot.passes,
+                }),
                 pool: inputs.pool,
             };
             let (moved, pins_changed) = workspace.integrator.xpbd.advance(
@@ -310,13 +362,13 @@ impl ClothMut<'_> {
                 self.settings.material.initial_temperature,
             );
             self.particles.external_force.fill(Vec3::ZERO);
-            return (substeps, None, moved + heated);
+            return (plan, None, moved + heated);
         }
         workspace.guard.remember(self.particles);
         let mut provot = None;
         for _ in 0..substeps {
             integrate(
-                solver.integrator,
+                plan.integrator,
                 self.particles,
                 self.springs,
                 &workspace.derived.force,
@@ -340,16 +392,12 @@ impl ClothMut<'_> {
             &solver.guard,
             self.settings.material.initial_temperature,
         );
-        (substeps, provot, repaired)
+        (plan, provot, repaired)
     }
 
-    /// Phase 5: the live index list from burn states.
+    /// Phase 5: the triangles of the particles burnt in this step leave the drawn list.
     fn cull(&mut self) {
-        let topology = &mut *self.topology;
-        cull_triangles(
-            &topology.triangles,
-            &self.particles.state,
-            &mut topology.live_indices,
-        );
+        let newly_burnt = &self.outcome.newly_burnt;
+        self.workspace.front.cull(self.topology, newly_burnt);
     }
 }

@@ -3,6 +3,7 @@
 
 use super::anchors::Anchors;
 use super::derived::DerivedParams;
+use super::front::Front;
 use super::guard::BlowUpGuard;
 use super::heat::HeatWorkspace;
 use super::integrate::{IntegratorWorkspace, stable_time_step};
@@ -23,6 +24,9 @@ pub struct ClothWorkspace {
     pub(crate) heat: HeatWorkspace,
     pub(crate) guard: BlowUpGuard,
     pub(crate) anchors: Anchors,
+    pub(crate) front: Front,
+    /// Scratch of the physical heat model.
+    pub(crate) conduction: Vec<f32>,
     /// The cloth's stable symplectic step, s, computed on first use after a material change.
     stable_step: Option<f32>,
 }
@@ -37,6 +41,8 @@ impl ClothWorkspace {
             heat: HeatWorkspace::default(),
             guard: BlowUpGuard::default(),
             anchors: Anchors::default(),
+            front: Front::default(),
+            conduction: Vec::new(),
             stable_step: None,
         }
     }
@@ -69,6 +75,15 @@ impl ClothWorkspace {
             .get_or_insert_with(|| stable_time_step(particles, springs, coefficients))
     }
 
+    /// Forgets what the workspace worked out about the cloth's burning and hanging (which
+    /// particles are on fire or gone, which springs shrink, what is drawn, what hangs from
+    /// what): the next step works it out anew from the cloth's data, reusing the memory.
+    pub fn restart(&mut self) {
+        self.front.restart();
+        self.anchors.invalidate();
+        self.stable_step = None;
+    }
+
     /// Forgets the cached stable step (after masses or springs were edited by hand).
     pub fn forget_stable_step(&mut self) {
         self.stable_step = None;
@@ -81,5 +96,7 @@ impl ClothWorkspace {
             + self.heat.heap_bytes()
             + self.guard.heap_bytes()
             + self.anchors.heap_bytes()
+            + self.front.heap_bytes()
+            + self.conduction.capacity() * size_of::<f32>()
     }
 }

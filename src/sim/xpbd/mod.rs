@@ -3,8 +3,9 @@
 //! Each frame of `dt` seconds runs a fixed number of substeps of `h = dt / n` (Macklin et al.
 //! 2019, "Small Steps in Physics Simulation"); each substep predicts positions from velocities
 //! and outside forces, projects every spring once as a compliant distance constraint with
-//! Macklin's damping (Macklin et al. 2016), resolves colliders, and takes the velocity from
-//! the corrections. Stable at any stiffness and step; first order.
+//! Macklin's damping (Macklin et al. 2016), holds the springs heat has shrunk to Provot's
+//! limit ([`StretchLimit`]), applies tethers and colliders, and takes the velocity from the
+//! corrections. Stable at any stiffness and step; first order.
 //!
 //! | piece | what it holds |
 //! |---|---|
@@ -15,11 +16,12 @@
 //!
 //! Where its accuracy ends: one constraint pass per substep does not solve stiff springs
 //! exactly, so a long stiff cloth stretches more under its weight than the force model says
-//! (see the README's accuracy report).
+//! (tethers bound that), and shrinking springs would stretch the cloth around them rather
+//! than pull it in (the stretch limit on them fixes that; see the README's accuracy report).
 
 mod adjacency;
 mod kernel;
 pub mod lanes;
 mod solver;
 
-pub use solver::{Surroundings, XpbdSolver};
+pub use solver::{StretchLimit, Surroundings, XpbdSolver};

@@ -15,6 +15,7 @@ use crate::sim::forces::ForceParams;
 use crate::sim::guard::GuardSettings;
 use crate::sim::parallel::{for_each_part, parts_for, pieces};
 use crate::sim::particles::Particles;
+use crate::sim::provot::STRETCH_TOLERANCE;
 use crate::sim::springs::{SpringCoefficients, SpringKind, Springs};
 use crate::sim::topology::GridShape;
 use bevy::tasks::TaskPool;
@@ -69,8 +70,27 @@ pub struct Surroundings<'a> {
     /// Tethers: each particle stays within `(1 + stretch) ×` its distance through the cloth
     /// to the pin it hangs from; `None` for none.
     pub tethers: Option<(&'a Anchors, f32)>,
+    /// Provot's limit on the springs heat shrinks, after the springs of every substep;
+    /// `None` for none.
+    pub stretch_limit: Option<StretchLimit<'a>>,
     /// Threads to share the work with, if any.
     pub pool: Option<&'a TaskPool>,
+}
+
+/// Provot's limit on a list of springs: Gauss–Seidel passes that pull each live in-plane
+/// spring of the list longer than `(1 + stretch) ×` its rest length back to that length (a
+/// hard, one-sided constraint). Given the springs heat has shrunk, it makes the burning cloth
+/// pull in and crumple around the fire, as the shrinking springs would with every spring held
+/// to the limit, instead of stretching: one compliant constraint pass per substep is too soft
+/// to carry the shrinking to the cold cloth around it.
+#[derive(Clone, Copy, Debug)]
+pub struct StretchLimit<'a> {
+    /// The springs, by index.
+    pub springs: &'a [u32],
+    /// Largest relative stretch (0.1 is 10 %).
+    pub stretch: f32,
+    /// Passes per substep.
+    pub passes: u32,
 }
 
 /// One cloth's XPBD solver: particle state as separate `f32` arrays in the solver's own order
@@ -112,6 +132,8 @@ pub struct XpbdSolver {
     tethers_for: Option<f32>,
     /// Whether the slots' tether targets hold their pins' positions.
     targets_valid: bool,
+    /// This frame's springs under the stretch limit: live, in-plane, movable.
+    limited: Vec<u32>,
 }
 
 /// What reading the particles found out about the pins.
@@ -285,6 +307,8 @@ impl XpbdSolver {
         }
         self.w.clear();
         self.w.resize(n, f32::NAN);
+        self.limited.clear();
+        self.limited.reserve(springs.len());
         for array in [&mut self.rest, &mut self.ca, &mut self.cb] {
             array.clear();
             array.resize(elements, 0.0);
@@ -331,6 +355,7 @@ impl XpbdSolver {
             }
             None => false,
         };
+        self.gather_limited(particles, springs, around.stretch_limit);
         // Tether targets stay where they are while the pins stand still.
         let mut refresh = tethered && (!self.targets_valid || pins.moving);
         let mut step = Substep {
@@ -344,6 +369,19 @@ impl XpbdSolver {
         per_slot(&mut self.slots, pool, &[], &step, Phase::PredictOnly);
         for substep in 0..substeps {
             self.project_springs(springs, pool);
+            if let Some(limit) = around.stretch_limit {
+                let ends = LimitEnds {
+                    springs,
+                    slot: &self.slot,
+                    w: &self.w,
+                };
+                let scale = 1.0 + limit.stretch.max(0.0);
+                for _ in 0..limit.passes {
+                    if !limit_stretch(&mut self.slots, &self.limited, scale, &ends) {
+                        break;
+                    }
+                }
+            }
             if refresh {
                 self.place_pins();
             }
@@ -358,6 +396,29 @@ impl XpbdSolver {
         }
         self.targets_valid = tethered && !pins.moving;
         (self.write(particles, &around.guard, pool), pins.changed)
+    }
+
+    /// This frame's springs under the stretch limit: those of the limit's list that are
+    /// in-plane, live and have a movable end.
+    fn gather_limited(
+        &mut self,
+        particles: &Particles,
+        springs: &Springs,
+        limit: Option<StretchLimit>,
+    ) {
+        self.limited.clear();
+        let Some(limit) = limit else {
+            return;
+        };
+        let w = &self.w;
+        self.limited
+            .extend(limit.springs.iter().copied().filter(|&s| {
+                let s = s as usize;
+                s < springs.len()
+                    && springs.kind[s].is_in_plane()
+                    && springs.is_live(s, &particles.state)
+                    && w[springs.a[s] as usize] + w[springs.b[s] as usize] > 0.0
+            }));
     }
 
     /// Copies the particles in (and a grid's rest lengths into lane order), in parts over
@@ -748,6 +809,44 @@ enum Phase {
 
 /// The per-slot pass over all slots, split into contiguous parts across threads when a pool
 /// is given (each slot is independent, so the split changes nothing).
+/// What [`limit_stretch`] reads of the cloth: its springs, each particle's slot and inverse
+/// mass.
+struct LimitEnds<'a> {
+    springs: &'a Springs,
+    slot: &'a [u32],
+    w: &'a [f32],
+}
+
+/// One pass of Provot's correction over `limited` (live in-plane springs with a movable end):
+/// each one longer than `scale ×` its rest length is pulled back to that length, the move
+/// shared by inverse mass, on the substep's positions `x + u` (the move goes into `u`, so the
+/// velocity follows). In list order, on this thread: the list is the burning front's, small.
+/// Returns whether any spring was corrected.
+fn limit_stretch(slots: &mut SlotArrays, limited: &[u32], scale: f32, ends: &LimitEnds) -> bool {
+    let SlotArrays { x, u, .. } = slots;
+    let springs = ends.springs;
+    let mut corrected = false;
+    for &s in limited {
+        let s = s as usize;
+        let (i, j) = (springs.a[s] as usize, springs.b[s] as usize);
+        let (a, b) = (ends.slot[i] as usize, ends.slot[j] as usize);
+        let e: [f32; 3] = core::array::from_fn(|k| (x[k][a] + u[k][a]) - (x[k][b] + u[k][b]));
+        let length = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+        let limit = scale * springs.rest_length[s];
+        if length <= limit * (1.0 + STRETCH_TOLERANCE) {
+            continue;
+        }
+        let (wa, wb) = (ends.w[i], ends.w[j]);
+        let share = (length - limit) / (length * (wa + wb));
+        for k in 0..3 {
+            u[k][a] -= e[k] * share * wa;
+            u[k][b] += e[k] * share * wb;
+        }
+        corrected = true;
+    }
+    corrected
+}
+
 fn per_slot(
     slots: &mut SlotArrays,
     pool: Option<&TaskPool>,

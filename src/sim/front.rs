@@ -1,0 +1,580 @@
+//! The burning front: which particles are on fire, which springs are still shrinking, which
+//! triangles are still drawn, kept as lists so a step's work follows the fire instead of
+//! sweeping the whole cloth.
+//!
+//! One pass over the particles remains per step, [`Front::scan`]: it reads each temperature
+//! and state (so a temperature or a state written from outside takes effect) and counts what
+//! the report needs. It does no work per spring or per triangle; everything else runs over
+//! the lists: the heat push from the particles on fire to their neighbours, the shrinking of
+//! the springs of warm particles down to their floor (and, for XPBD, Provot's stretch limit
+//! on them), the cutting of springs that span a particle that just burnt, and the removal of
+//! its triangles from the drawn list.
+
+use super::combustion::CombustionReport;
+use super::material::BurnMaterial;
+use super::particles::{BurnState, Particles};
+use super::springs::{NO_SPAN, SpringCoefficients, SpringKind, Springs};
+use super::topology::Topology;
+
+const NONE: u32 = u32::MAX;
+
+/// Compressed rows: `start[i]..start[i + 1]` indexes `items` for row `i`.
+#[derive(Clone, Debug, Default)]
+struct Rows {
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Rows {
+    /// Rows for `rows` rows holding, for each of `count` items, the rows `of(item)` names
+    /// (`NONE` and out-of-range entries skipped).
+    fn build(&mut self, rows: usize, count: usize, of: impl Fn(usize) -> [u32; 4]) {
+        self.start.clear();
+        self.start.resize(rows + 1, 0);
+        for item in 0..count {
+            for row in of(item) {
+                if (row as usize) < rows {
+                    self.start[row as usize + 1] += 1;
+                }
+            }
+        }
+        for row in 0..rows {
+            self.start[row + 1] += self.start[row];
+        }
+        self.items.clear();
+        self.items.resize(self.start[rows] as usize, 0);
+        let mut cursor = self.start[..rows].to_vec();
+        for item in 0..count {
+            for row in of(item) {
+                if (row as usize) < rows {
+                    self.items[cursor[row as usize] as usize] = item as u32;
+                    cursor[row as usize] += 1;
+                }
+            }
+        }
+    }
+
+    fn of(&self, row: usize) -> &[u32] {
+        &self.items[self.start[row] as usize..self.start[row + 1] as usize]
+    }
+
+    fn heap_bytes(&self) -> usize {
+        (self.start.capacity() + self.items.capacity()) * size_of::<u32>()
+    }
+}
+
+/// A cloth's burning front and the rows that lead from a particle to its springs and
+/// triangles.
+#[derive(Clone, Debug, Default)]
+pub struct Front {
+    built_for: (usize, usize, usize),
+    /// The springs each particle is in as an end or spans.
+    springs_of: Rows,
+    /// The triangles each particle is a corner of.
+    triangles_of: Rows,
+    /// Particles on fire, and each particle's place in that list (`NONE` when not).
+    ignited: Vec<u32>,
+    ignited_at: Vec<u32>,
+    /// Whether each particle has been warmer than the cloth's initial temperature, and how
+    /// many have.
+    warm: Vec<bool>,
+    warm_count: u32,
+    /// Whether each burnt particle has been dealt with (springs cut, triangles removed).
+    gone: Vec<bool>,
+    /// The heated springs (an end has been warm; live): those shrinking and those shrunk to
+    /// their floor. Each spring's place in that list.
+    shrinking: Vec<u32>,
+    shrinking_at: Vec<u32>,
+    /// The triangle in each place of the drawn list, and each triangle's place.
+    live_triangle: Vec<u32>,
+    live_at: Vec<u32>,
+    /// Pinned particles not burnt, as of the latest scan.
+    pins: Vec<u32>,
+}
+
+/// What a scan counted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Particles burnt.
+    pub burnt: u32,
+    /// Pinned particles not burnt.
+    pub pins_left: u32,
+}
+
+impl Front {
+    /// Heap memory held, bytes (capacity, not length).
+    pub fn heap_bytes(&self) -> usize {
+        let words = [
+            &self.ignited,
+            &self.ignited_at,
+            &self.shrinking,
+            &self.shrinking_at,
+            &self.live_triangle,
+            &self.live_at,
+            &self.pins,
+        ]
+        .iter()
+        .map(|v| v.capacity())
+        .sum::<usize>();
+        words * size_of::<u32>()
+            + self.warm.capacity()
+            + self.gone.capacity()
+            + self.springs_of.heap_bytes()
+            + self.triangles_of.heap_bytes()
+    }
+
+    /// Makes the next [`Self::prepare`] build everything anew (memory is reused).
+    pub fn restart(&mut self) {
+        self.built_for = (usize::MAX, 0, 0);
+    }
+
+    /// Particles on fire.
+    pub fn ignited(&self) -> &[u32] {
+        &self.ignited
+    }
+
+    /// Pinned particles not burnt (as of the latest scan).
+    pub fn pins(&self) -> &[u32] {
+        &self.pins
+    }
+
+    /// The heated springs: live springs with an end that has been warm, shrinking or shrunk
+    /// to their floor.
+    pub fn shrinking(&self) -> &[u32] {
+        &self.shrinking
+    }
+
+    /// Whether any particle has ever been warmer than the initial temperature.
+    pub fn any_warm(&self) -> bool {
+        self.warm_count > 0
+    }
+
+    /// Builds the rows and lists for this cloth if not already: on its first step, or when
+    /// its particles, springs or triangles changed in number. Springs spanning particles that
+    /// were burnt before the first step (cut-outs) are cut.
+    pub fn prepare(
+        &mut self,
+        particles: &Particles,
+        springs: &mut Springs,
+        topology: &mut Topology,
+    ) {
+        let n = particles.len();
+        let key = (n, springs.len(), topology.triangles.len());
+        if self.built_for == key {
+            return;
+        }
+        self.built_for = key;
+        self.springs_of.build(n, springs.len(), |s| {
+            let [first, second] = springs.spans[s];
+            let second = if second == first { NO_SPAN } else { second };
+            [springs.a[s], springs.b[s], first, second]
+        });
+        let triangles = &topology.triangles;
+        self.triangles_of.build(n, triangles.len(), |t| {
+            let [a, b, c] = triangles[t];
+            [a, b, c, NONE]
+        });
+        self.ignited.clear();
+        self.ignited.reserve(n);
+        self.ignited_at.clear();
+        self.ignited_at.resize(n, NONE);
+        self.warm.clear();
+        self.warm.resize(n, false);
+        self.warm_count = 0;
+        self.gone.clear();
+        self.gone.resize(n, false);
+        self.shrinking.clear();
+        self.shrinking.reserve(springs.len());
+        self.shrinking_at.clear();
+        self.shrinking_at.resize(springs.len(), NONE);
+        self.pins.clear();
+        self.pins.reserve(n);
+        // The drawn list from the triangles whose corners have not burnt.
+        self.live_at.clear();
+        self.live_at.resize(triangles.len(), NONE);
+        self.live_triangle.clear();
+        self.live_triangle.reserve(triangles.len());
+        topology.live_indices.clear();
+        topology.live_indices.reserve(3 * triangles.len());
+        for (t, triangle) in triangles.iter().enumerate() {
+            if triangle
+                .iter()
+                .all(|&i| !particles.state[i as usize].is_burnt())
+            {
+                self.live_at[t] = self.live_triangle.len() as u32;
+                self.live_triangle.push(t as u32);
+                topology.live_indices.extend_from_slice(triangle);
+            }
+        }
+        // Particles burnt before the first step (cut-outs) are gone already: their triangles
+        // are not drawn, their springs are dead by their ends, and the springs over them cut.
+        for i in 0..n {
+            if particles.state[i].is_burnt() {
+                self.gone[i] = true;
+                self.sever(springs, &particles.state, &[i as u32]);
+            }
+            if particles.inv_mass[i] == 0.0 && !particles.state[i].is_burnt() {
+                self.pins.push(i as u32);
+            }
+        }
+    }
+
+    /// Updates burn states from temperatures (ignited strictly above the ignition
+    /// temperature, burnt strictly above the burnt temperature; burnt is final; an ignited
+    /// particle cooled below ignition is intact again), over every particle. Appends the
+    /// particles burnt in this step (by temperature, or set burnt from outside since the last
+    /// step) to `newly_burnt`; keeps the list of particles on fire; starts the springs of
+    /// newly warm particles shrinking; counts burnt particles and pins left.
+    pub fn scan(
+        &mut self,
+        particles: &mut Particles,
+        springs: &Springs,
+        material: &BurnMaterial,
+        newly_burnt: &mut Vec<u32>,
+    ) -> (CombustionReport, Counts) {
+        let mut report = CombustionReport::default();
+        let mut counts = Counts::default();
+        self.pins.clear();
+        let (ignition, burnt_above, initial) = (
+            material.ignition_temperature,
+            material.burnt_temperature,
+            material.initial_temperature,
+        );
+        for i in 0..particles.len() {
+            let t = particles.temperature[i];
+            let state = particles.state[i];
+            let next = match state {
+                BurnState::Burnt => BurnState::Burnt,
+                _ if t > burnt_above => BurnState::Burnt,
+                _ if t > ignition => BurnState::Ignited,
+                _ => BurnState::Intact,
+            };
+            if next == BurnState::Burnt {
+                counts.burnt += 1;
+                if !self.gone[i] {
+                    self.gone[i] = true;
+                    newly_burnt.push(i as u32);
+                    report.newly_burnt += 1;
+                }
+            } else if particles.inv_mass[i] == 0.0 {
+                self.pins.push(i as u32);
+            }
+            if state == BurnState::Intact && next == BurnState::Ignited {
+                report.newly_ignited += 1;
+            }
+            particles.state[i] = next;
+            let on_fire = next == BurnState::Ignited;
+            if on_fire != (self.ignited_at[i] != NONE) {
+                if on_fire {
+                    self.ignited_at[i] = self.ignited.len() as u32;
+                    self.ignited.push(i as u32);
+                } else {
+                    self.remove_ignited(i);
+                }
+            }
+            if !self.warm[i] && t > initial && next != BurnState::Burnt {
+                self.warm[i] = true;
+                self.warm_count += 1;
+                self.start_shrinking(i, springs);
+            }
+        }
+        counts.pins_left = self.pins.len() as u32;
+        report.ignited = self.ignited.len() as u32;
+        (report, counts)
+    }
+
+    fn remove_ignited(&mut self, i: usize) {
+        let place = self.ignited_at[i] as usize;
+        self.ignited.swap_remove(place);
+        if let Some(&moved) = self.ignited.get(place) {
+            self.ignited_at[moved as usize] = place as u32;
+        }
+        self.ignited_at[i] = NONE;
+    }
+
+    /// Puts particle `i`'s springs (those it ends; not those it only spans) on the shrinking
+    /// list.
+    fn start_shrinking(&mut self, i: usize, springs: &Springs) {
+        for &s in self.springs_of.of(i) {
+            let spring = s as usize;
+            let ends = springs.a[spring] as usize == i || springs.b[spring] as usize == i;
+            if ends && self.shrinking_at[spring] == NONE {
+                self.shrinking_at[spring] = self.shrinking.len() as u32;
+                self.shrinking.push(s);
+            }
+        }
+    }
+
+    fn stop_shrinking(&mut self, place: usize) {
+        let spring = self.shrinking[place] as usize;
+        self.shrinking.swap_remove(place);
+        if let Some(&moved) = self.shrinking.get(place) {
+            self.shrinking_at[moved as usize] = place as u32;
+        }
+        self.shrinking_at[spring] = NONE;
+    }
+
+    /// Cuts the live springs that pass over the particles in `newly_burnt` (a bending spring
+    /// would otherwise hold across the gap): each one's second end is moved to the burnt
+    /// particle it spanned, which makes it dead for every loop that checks its ends. Returns
+    /// how many were cut.
+    pub fn sever(&self, springs: &mut Springs, state: &[BurnState], newly_burnt: &[u32]) -> u32 {
+        let mut cut = 0;
+        for &burnt in newly_burnt {
+            for &s in self.springs_of.of(burnt as usize) {
+                let s = s as usize;
+                if springs.spans[s].contains(&burnt) && springs.is_live(s, state) {
+                    springs.b[s] = burnt;
+                    cut += 1;
+                }
+            }
+        }
+        cut
+    }
+
+    /// Shrinks the rest length of every spring on the shrinking list by Larboulette's rule as
+    /// the paper uses it, per second of `h`:
+    ///
+    /// `l ← max(l − factor × h × l_init × (ΔT_a + ΔT_b) / k, floor × l_init)`
+    ///
+    /// with `ΔT = max(T − T_initial, 0)` (measured from the initial temperature so cold cloth
+    /// keeps its size). A spring of zero stiffness does not shrink; a spring that dies leaves
+    /// the list (one at its floor stays: its stretch is still limited).
+    pub fn shrink(
+        &mut self,
+        springs: &mut Springs,
+        particles: &Particles,
+        material: &BurnMaterial,
+        coefficients: &SpringCoefficients,
+        h: f32,
+    ) {
+        let rate = material.shrink_factor * h;
+        let (floor, t0) = (material.min_rest_fraction, material.initial_temperature);
+        let mut place = 0;
+        while place < self.shrinking.len() {
+            let s = self.shrinking[place] as usize;
+            if !springs.is_live(s, &particles.state) {
+                self.stop_shrinking(place);
+                continue;
+            }
+            let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
+            let temperature = &particles.temperature;
+            let heat = (temperature[a] - t0).max(0.0) + (temperature[b] - t0).max(0.0);
+            let k = coefficients.stiffness[springs.kind[s] as usize];
+            let initial = springs.initial_rest_length[s];
+            let lowest = floor * initial;
+            if rate > 0.0 && heat > 0.0 && k > 0.0 {
+                let shrunk = springs.rest_length[s] - rate * initial * heat / k;
+                springs.rest_length[s] = shrunk.max(lowest);
+            }
+            place += 1;
+        }
+    }
+
+    /// Removes the triangles of the particles in `newly_burnt` from the drawn list (each by
+    /// swapping in the list's last triangle).
+    pub fn cull(&mut self, topology: &mut Topology, newly_burnt: &[u32]) {
+        for &burnt in newly_burnt {
+            for &t in self.triangles_of.of(burnt as usize) {
+                let place = self.live_at[t as usize];
+                if place == NONE {
+                    continue;
+                }
+                let place = place as usize;
+                let last = self.live_triangle.len() - 1;
+                let moved = self.live_triangle[last];
+                self.live_triangle.swap_remove(place);
+                topology
+                    .live_indices
+                    .copy_within(3 * last..3 * last + 3, 3 * place);
+                topology.live_indices.truncate(3 * last);
+                if place != last {
+                    self.live_at[moved as usize] = place as u32;
+                }
+                self.live_at[t as usize] = NONE;
+            }
+        }
+    }
+
+    /// The in-plane springs of particle `i` (structural and shear; a mesh's edges), with the
+    /// particle at their other end.
+    pub fn in_plane_neighbours<'a>(
+        &'a self,
+        i: usize,
+        springs: &'a Springs,
+    ) -> impl Iterator<Item = (usize, usize)> + 'a {
+        self.springs_of.of(i).iter().filter_map(move |&s| {
+            let s = s as usize;
+            if springs.kind[s] == SpringKind::Bend {
+                return None;
+            }
+            let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
+            match (a == i, b == i) {
+                (true, false) => Some((s, b)),
+                (false, true) => Some((s, a)),
+                _ => None,
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// `n` particles in a row 5 cm apart, none pinned, at the initial temperature of
+    /// `material`, with the springs `pairs`.
+    fn row(
+        n: usize,
+        material: &BurnMaterial,
+        pairs: &[(u32, u32, SpringKind)],
+    ) -> (Particles, Springs) {
+        let position: Vec<Vec3> = (0..n).map(|i| Vec3::X * 0.05 * i as f32).collect();
+        let particles = Particles {
+            velocity: vec![Vec3::ZERO; n],
+            mass: vec![1.0; n],
+            inv_mass: vec![1.0; n],
+            temperature: vec![material.initial_temperature; n],
+            state: vec![BurnState::Intact; n],
+            anchor: position.clone(),
+            external_force: vec![Vec3::ZERO; n],
+            position,
+        };
+        let mut springs = Springs::default();
+        for &(a, b, kind) in pairs {
+            springs.push(a, b, 0.05 * b.abs_diff(a) as f32, kind);
+        }
+        (particles, springs)
+    }
+
+    fn scanned(
+        front: &mut Front,
+        particles: &mut Particles,
+        springs: &mut Springs,
+        material: &BurnMaterial,
+    ) -> (CombustionReport, Vec<u32>) {
+        front.prepare(particles, springs, &mut Topology::default());
+        let mut newly_burnt = Vec::new();
+        let (report, _) = front.scan(particles, springs, material, &mut newly_burnt);
+        (report, newly_burnt)
+    }
+
+    #[test]
+    fn every_material_ignites_exactly_above_its_threshold() {
+        for material in BurnMaterial::PRESETS {
+            let (mut particles, mut springs) = row(3, &material, &[]);
+            let threshold = material.ignition_temperature;
+            particles.temperature = vec![threshold, threshold.next_up(), threshold.next_down()];
+            let (report, _) = scanned(
+                &mut Front::default(),
+                &mut particles,
+                &mut springs,
+                &material,
+            );
+            assert_eq!(
+                particles.state,
+                [BurnState::Intact, BurnState::Ignited, BurnState::Intact],
+                "{}",
+                material.name
+            );
+            assert_eq!((report.newly_ignited, report.ignited), (1, 1));
+        }
+    }
+
+    #[test]
+    fn burnt_is_final_reported_once_and_counted() {
+        let material = BurnMaterial::PAPER;
+        let (mut particles, mut springs) = row(2, &material, &[]);
+        particles.inv_mass[0] = 0.0;
+        particles.state[0] = BurnState::Ignited;
+        particles.temperature[0] = material.burnt_temperature + 1.0;
+        let mut front = Front::default();
+        let (report, burnt) = scanned(&mut front, &mut particles, &mut springs, &material);
+        assert_eq!((report.newly_burnt, burnt), (1, vec![0]));
+        assert!(front.ignited().is_empty());
+        particles.temperature[0] = 20.0;
+        let mut newly_burnt = Vec::new();
+        let (report, counts) = front.scan(&mut particles, &springs, &material, &mut newly_burnt);
+        assert_eq!(particles.state[0], BurnState::Burnt);
+        assert_eq!(report.newly_burnt, 0);
+        assert!(newly_burnt.is_empty());
+        assert_eq!(
+            counts,
+            Counts {
+                burnt: 1,
+                pins_left: 0
+            },
+            "the burnt pin holds nothing"
+        );
+    }
+
+    #[test]
+    fn rest_lengths_shrink_with_heat_and_never_below_the_floor() {
+        let material = BurnMaterial::SILK;
+        let coefficients = SpringCoefficients::from_material(&material, 1e-4);
+        let (mut particles, mut springs) = row(
+            3,
+            &material,
+            &[(0, 1, SpringKind::Structural), (0, 2, SpringKind::Bend)],
+        );
+        let mut front = Front::default();
+        scanned(&mut front, &mut particles, &mut springs, &material);
+        front.shrink(&mut springs, &particles, &material, &coefficients, 0.01);
+        assert_eq!(
+            springs.rest_length,
+            vec![0.05, 0.1],
+            "cold cloth keeps its size"
+        );
+        assert!(front.shrinking().is_empty());
+        particles.temperature.fill(900.0);
+        particles.state.fill(BurnState::Ignited);
+        front.scan(&mut particles, &springs, &material, &mut Vec::new());
+        front.shrink(&mut springs, &particles, &material, &coefficients, 0.01);
+        let expected = 0.05
+            - material.shrink_factor * 0.01 * 0.05 * 2.0 * (900.0 - material.initial_temperature)
+                / material.structural_stiffness;
+        assert!((springs.rest_length[0] - expected).abs() < 1e-7);
+        for _ in 0..100_000 {
+            front.shrink(&mut springs, &particles, &material, &coefficients, 0.01);
+        }
+        for s in 0..springs.len() {
+            assert_eq!(
+                springs.rest_length[s],
+                material.min_rest_fraction * springs.initial_rest_length[s]
+            );
+        }
+        assert_eq!(
+            front.shrinking().len(),
+            2,
+            "springs at their floor stay on the list"
+        );
+        particles.state[2] = BurnState::Burnt;
+        front.shrink(&mut springs, &particles, &material, &coefficients, 0.01);
+        assert_eq!(front.shrinking(), &[0], "dead springs leave it");
+    }
+
+    #[test]
+    fn a_burnt_particle_cuts_the_springs_over_it_and_leaves_the_drawn_list() {
+        let material = BurnMaterial::COTTON;
+        let (mut particles, mut springs) = row(3, &material, &[(0, 1, SpringKind::Structural)]);
+        springs.push_spanning(0, 2, 0.1, SpringKind::Bend, [1, 1]);
+        let mut topology = Topology {
+            triangles: vec![[0, 1, 2], [0, 2, 1]],
+            ..Topology::default()
+        };
+        let mut front = Front::default();
+        front.prepare(&particles, &mut springs, &mut topology);
+        assert_eq!(topology.live_triangle_count(), 2);
+        particles.temperature[1] = material.burnt_temperature + 1.0;
+        let mut burnt = Vec::new();
+        front.scan(&mut particles, &springs, &material, &mut burnt);
+        assert_eq!(front.sever(&mut springs, &particles.state, &burnt), 1);
+        assert!(
+            !springs.is_live(1, &particles.state),
+            "the bend over it is cut"
+        );
+        front.cull(&mut topology, &burnt);
+        assert_eq!(topology.live_triangle_count(), 0);
+    }
+}
