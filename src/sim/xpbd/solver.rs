@@ -89,7 +89,8 @@ pub struct StretchLimit<'a> {
     pub springs: &'a [u32],
     /// Largest relative stretch (0.1 is 10 %).
     pub stretch: f32,
-    /// Passes per substep.
+    /// Passes per substep: the first over every spring of the list, each later one over
+    /// the springs the pass before corrected; 0 turns the limit off.
     pub passes: u32,
 }
 
@@ -134,6 +135,10 @@ pub struct XpbdSolver {
     targets_valid: bool,
     /// This frame's springs under the stretch limit: live, in-plane, movable.
     limited: Vec<u32>,
+    /// The springs the last stretch-limit pass corrected, and the ones the pass before it
+    /// did (the list the next pass revisits).
+    corrected: Vec<u32>,
+    recheck: Vec<u32>,
 }
 
 /// What reading the particles found out about the pins.
@@ -262,7 +267,10 @@ impl XpbdSolver {
             + self.slot.capacity()
             + self.dirty.capacity()
             + self.pin_slots.capacity()
-            + self.pin_index.capacity())
+            + self.pin_index.capacity()
+            + self.limited.capacity()
+            + self.corrected.capacity()
+            + self.recheck.capacity())
             * size_of::<f32>()
             + self.pin_positions.capacity() * size_of::<[f32; 3]>()
             + layout
@@ -307,8 +315,10 @@ impl XpbdSolver {
         }
         self.w.clear();
         self.w.resize(n, f32::NAN);
-        self.limited.clear();
-        self.limited.reserve(springs.len());
+        for list in [&mut self.limited, &mut self.corrected, &mut self.recheck] {
+            list.clear();
+            list.reserve(springs.len());
+        }
         for array in [&mut self.rest, &mut self.ca, &mut self.cb] {
             array.clear();
             array.resize(elements, 0.0);
@@ -369,17 +379,21 @@ impl XpbdSolver {
         per_slot(&mut self.slots, pool, &[], &step, Phase::PredictOnly);
         for substep in 0..substeps {
             self.project_springs(springs, pool);
-            if let Some(limit) = around.stretch_limit {
+            if let Some(limit) = around.stretch_limit.filter(|limit| limit.passes > 0) {
                 let ends = LimitEnds {
                     springs,
                     slot: &self.slot,
                     w: &self.w,
                 };
                 let scale = 1.0 + limit.stretch.max(0.0);
-                for _ in 0..limit.passes {
-                    if !limit_stretch(&mut self.slots, &self.limited, scale, &ends) {
+                let slots = &mut self.slots;
+                limit_stretch(slots, &self.limited, scale, &ends, &mut self.corrected);
+                for _ in 1..limit.passes {
+                    if self.corrected.is_empty() {
                         break;
                     }
+                    core::mem::swap(&mut self.corrected, &mut self.recheck);
+                    limit_stretch(slots, &self.recheck, scale, &ends, &mut self.corrected);
                 }
             }
             if refresh {
@@ -817,22 +831,30 @@ struct LimitEnds<'a> {
     w: &'a [f32],
 }
 
-/// One pass of Provot's correction over `limited` (live in-plane springs with a movable end):
-/// each one longer than `scale ×` its rest length is pulled back to that length, the move
-/// shared by inverse mass, on the substep's positions `x + u` (the move goes into `u`, so the
-/// velocity follows). In list order, on this thread: the list is the burning front's, small.
-/// Returns whether any spring was corrected.
-fn limit_stretch(slots: &mut SlotArrays, limited: &[u32], scale: f32, ends: &LimitEnds) -> bool {
+/// One pass of Provot's correction over `springs` (live in-plane springs with a movable
+/// end): each one longer than `scale ×` its rest length is pulled back to that length, the
+/// move shared by inverse mass, on the substep's positions `x + u` (the move goes into `u`,
+/// so the velocity follows). In list order, on this thread: the list is the burning front's,
+/// small. The springs it corrected go into `corrected` (cleared first); the next pass
+/// revisits only those, so a pass after the first costs what is still over the limit, not
+/// the whole front.
+fn limit_stretch(
+    slots: &mut SlotArrays,
+    springs_to_check: &[u32],
+    scale: f32,
+    ends: &LimitEnds,
+    corrected: &mut Vec<u32>,
+) {
     let SlotArrays { x, u, .. } = slots;
     let springs = ends.springs;
-    let mut corrected = false;
-    for &s in limited {
-        let s = s as usize;
-        let (i, j) = (springs.a[s] as usize, springs.b[s] as usize);
+    corrected.clear();
+    for &s in springs_to_check {
+        let spring = s as usize;
+        let (i, j) = (springs.a[spring] as usize, springs.b[spring] as usize);
         let (a, b) = (ends.slot[i] as usize, ends.slot[j] as usize);
         let e: [f32; 3] = core::array::from_fn(|k| (x[k][a] + u[k][a]) - (x[k][b] + u[k][b]));
         let length = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
-        let limit = scale * springs.rest_length[s];
+        let limit = scale * springs.rest_length[spring];
         if length <= limit * (1.0 + STRETCH_TOLERANCE) {
             continue;
         }
@@ -842,9 +864,8 @@ fn limit_stretch(slots: &mut SlotArrays, limited: &[u32], scale: f32, ends: &Lim
             u[k][a] -= e[k] * share * wa;
             u[k][b] += e[k] * share * wb;
         }
-        corrected = true;
+        corrected.push(s);
     }
-    corrected
 }
 
 fn per_slot(
