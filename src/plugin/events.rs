@@ -14,8 +14,9 @@ pub enum IgniteAt {
     WorldPoint(Vec3),
 }
 
-/// Sets a cloth alight: the target particle is raised to `temperature` (default: the
-/// material's seed temperature, the paper's 1000 °F) if it is colder.
+/// Sets a cloth alight: the target particle, and every unburnt particle within
+/// [`sim::ignition::IGNITION_RADIUS`] (3 cm) of it, is raised to `temperature` (default: the
+/// material's seed temperature, the paper's 1000 °F) where colder.
 ///
 /// Trigger it with `commands.trigger(Ignite::at_world_point(cloth, point))`. A request on an
 /// entity that is not a cloth (or no longer exists), at an index out of range, at a
@@ -211,7 +212,7 @@ pub(crate) fn apply_ignition(
         IgniteAt::WorldPoint(point) => sim::ignition::nearest_unburnt_particle(particles, point)?,
     };
     let temperature = temperature.unwrap_or(material.seed_temperature);
-    sim::ignition::heat_particle(particles, index, temperature)?;
+    sim::ignition::ignite_patch(particles, index, temperature)?;
     Ok(index)
 }
 

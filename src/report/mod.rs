@@ -5,6 +5,8 @@
 //! |---|---|
 //! | [`stability`] | every integrator against stiff and extreme cases, raw and guarded |
 //! | [`accuracy`] | error against run time of every integrator on reference problems |
+//! | [`spread`] | fire spread speed by direction, material, heat model and grid spacing |
 
 pub mod accuracy;
+pub mod spread;
 pub mod stability;

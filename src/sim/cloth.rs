@@ -7,7 +7,7 @@ use super::combustion::{extinguish, extinguished_temperature};
 use super::error::ClothError;
 use super::grid::{ClothBuilder, ClothParts};
 use super::heat_sources::WorldHeatSource;
-use super::ignition::{heat_particle, nearest_unburnt_particle};
+use super::ignition::{ignite_patch, nearest_unburnt_particle};
 use super::material::BurnMaterial;
 use super::particles::Particles;
 use super::settings::{ClothSettings, Environment, SolverSettings, StepPlan};
@@ -172,9 +172,11 @@ impl ClothSim {
         )
     }
 
-    /// Sets particle `index` to the material's seed temperature (if colder).
+    /// Sets particle `index`, and the unburnt particles within
+    /// [`IGNITION_RADIUS`](super::ignition::IGNITION_RADIUS) of it, to the material's seed
+    /// temperature (where colder).
     pub fn ignite(&mut self, index: usize) -> Result<(), ClothError> {
-        heat_particle(
+        ignite_patch(
             &mut self.particles,
             index,
             self.settings.material.seed_temperature,
@@ -294,11 +296,11 @@ mod tests {
             Err(ClothError::NonFinitePoint)
         );
         assert_eq!(
-            heat_particle(&mut sim.particles, 0, f32::INFINITY),
+            crate::sim::ignition::heat_particle(&mut sim.particles, 0, f32::INFINITY),
             Err(ClothError::InvalidTemperature(f32::INFINITY))
         );
         assert_eq!(
-            heat_particle(&mut sim.particles, 0, -300.0),
+            crate::sim::ignition::heat_particle(&mut sim.particles, 0, -300.0),
             Err(ClothError::InvalidTemperature(-300.0))
         );
         assert_eq!(sim.ignite_nearest(Vec3::new(10.0, -10.0, 0.0)), Ok(15));

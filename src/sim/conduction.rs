@@ -4,13 +4,14 @@
 //! For particle `i` with mass `mᵢ` (heat capacity `c·mᵢ`) and structural neighbours `j`
 //! at rest distance `lᵢⱼ`:
 //!
-//! `mᵢ dTᵢ/dt = Σⱼ m̄ᵢⱼ (α/lᵢⱼ² + c·max(ûᵢⱼ·up, 0)·[Tᵢ > Tⱼ]) (Tⱼ − Tᵢ) + mᵢ q [ignited] − mᵢ κ (Tᵢ − T_air)`
+//! `mᵢ dTᵢ/dt = Σⱼ m̄ᵢⱼ (α/lᵢⱼ² + c·(L_ref/lᵢⱼ)·max(ûᵢⱼ·up, 0)·[Tᵢ > Tⱼ]) (Tⱼ − Tᵢ) + mᵢ q [ignited] − mᵢ κ (Tᵢ − T_air)`
 //!
 //! - conduction with diffusivity `α` (m²/s, [`PhysicalHeat::diffusivity`]): on a square grid of spacing `dx` this is the
 //!   5-point Laplacian, so `∂T/∂t = α∇²T` (checked against the spreading Gaussian);
-//! - convection at rate `c` (1/s): hot air carries heat from a particle to a cooler one above
-//!   it, in proportion to how vertical the link is — fire climbs, as in the paper, but heat
-//!   moves rather than being created;
+//! - convection at rate `c` (1/s for links [`REFERENCE_SPACING`] long, `c·L_ref/lᵢⱼ` for a
+//!   link `lᵢⱼ` long, an upwind transport at `c·L_ref` m/s whatever the spacing): hot air
+//!   carries heat from a particle to a cooler one above it, in proportion to how vertical
+//!   the link is — fire climbs, as in the paper, but heat moves rather than being created;
 //! - heat release `q` (°C/s, [`PhysicalHeat::burn_heating`]) while a particle is ignited;
 //! - cooling at rate `κ` (1/s) towards the air temperature.
 //!
@@ -20,7 +21,7 @@
 //! particle; [`conduction_step`] splits `h` into as many substeps as that needs (cooling is
 //! applied exactly, as an exponential).
 
-use super::material::MAX_TEMPERATURE;
+use super::material::{MAX_TEMPERATURE, REFERENCE_SPACING};
 use super::particles::BurnState;
 use super::settings::PhysicalHeat;
 use super::springs::{SpringKind, Springs};
@@ -67,7 +68,7 @@ fn exchange_rate(
             (b, a)
         };
         let rise = (position[cold] - position[hot]).normalize_or_zero().dot(up);
-        rate += heat.convection * rise.max(0.0);
+        rate += heat.convection * (REFERENCE_SPACING / rest) * rise.max(0.0);
     }
     Some((a, b, rate))
 }

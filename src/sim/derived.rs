@@ -3,7 +3,7 @@
 
 use super::forces::ForceParams;
 use super::heat::HeatParams;
-use super::material::BurnMaterial;
+use super::material::{BurnMaterial, REFERENCE_SPACING};
 use super::settings::{ClothSettings, Environment, HeatModel};
 use super::springs::SpringCoefficients;
 use super::topology::Topology;
@@ -43,13 +43,23 @@ pub fn force_params(
     }
 }
 
-/// Heat parameters of a cloth: the material's rates, the proximity reach from the solver's
+/// Heat parameters of a cloth: the material's push rates scaled from
+/// [`REFERENCE_SPACING`] to the cloth's spacing, the proximity reach from the solver's
 /// factor and the cloth's spacing, world up, and the physical model's parameters if chosen.
 pub fn heat_params(settings: &ClothSettings, topology: &Topology) -> HeatParams {
     let mut params = HeatParams::from_material(
         &settings.material,
         settings.solver.proximity_radius_factor * topology.spacing,
     );
+    // The material's push rates are per neighbour at the reference spacing: scaled to this
+    // cloth's, the front crosses the same metres per second at any resolution.
+    let per_neighbour = if topology.spacing.is_finite() && topology.spacing > 0.0 {
+        REFERENCE_SPACING / topology.spacing
+    } else {
+        1.0
+    };
+    params.spread_rate *= per_neighbour;
+    params.proximity_rate *= per_neighbour;
     params.up = settings.environment.unit_up();
     if let HeatModel::Physical(physical) = settings.solver.heat_model {
         params.physical = Some(physical);

@@ -3,7 +3,12 @@
 //! Every step, each ignited particle `i` adds to each grid neighbour `j` (its structural and
 //! shear springs: the 8 surrounding particles of a grid)
 //!
-//! `ΔT_j = w(ĵ·up) × rate × h × (T_i − T_initial)`
+//! `ΔT_j = w(ĵ·up) × rate × (L_ref / l) × h × (T_i − T_initial)`
+//!
+//! where `l` is the cloth's particle spacing and `L_ref` the [`REFERENCE_SPACING`] the
+//! material's rate is given for: the front crosses one neighbour in a time proportional to
+//! `l`, so it moves the same metres per second at any resolution (the paper's push, per
+//! neighbour, made a cloth twice as fine burn half as fast).
 //!
 //! where `ĵ` is the world direction from `i` to `j`. The paper gives the weights for the
 //! particle directly above (4) and the upward diagonals (2); its Figure 3 with the others did
@@ -22,6 +27,8 @@
 //! (the [`Front`]'s list) push, and only the particles they reach are touched.
 
 use super::front::Front;
+#[cfg(doc)]
+use super::material::REFERENCE_SPACING;
 use super::material::{BurnMaterial, MAX_TEMPERATURE};
 use super::particles::{BurnState, Particles};
 use super::spatial_hash::SpatialHash;
@@ -58,7 +65,8 @@ pub fn direction_weight(cos_up: f32) -> f32 {
 /// Parameters of the paper's heat model for one step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeatParams {
-    /// Push rate, 1/s (the material's `heat_spread_rate`).
+    /// Push rate for this cloth's spacing, 1/s (the material's `heat_spread_rate` times
+    /// `REFERENCE_SPACING / spacing`).
     pub spread_rate: f32,
     /// Self-heating of an ignited particle, °C/s.
     pub self_heating_rate: f32,
@@ -69,7 +77,8 @@ pub struct HeatParams {
     /// Particles this close to a burning one are heated even without a spring, m.
     /// Zero turns proximity heating off.
     pub proximity_radius: f32,
-    /// Push rate across proximity, 1/s, at zero distance; falls linearly to 0 at the radius.
+    /// Push rate across proximity, 1/s, at zero distance, scaled like `spread_rate`; falls
+    /// linearly to 0 at the radius.
     pub proximity_rate: f32,
     /// The physical model's parameters, when the cloth uses it instead of the push model
     /// (proximity heating then still applies).
@@ -77,8 +86,8 @@ pub struct HeatParams {
 }
 
 impl HeatParams {
-    /// Parameters from a material, with world up `+Y`, the given proximity radius and the
-    /// paper's model.
+    /// Parameters from a material for particles `REFERENCE_SPACING` apart, with world up
+    /// `+Y`, the given proximity radius and the paper's model.
     pub fn from_material(material: &BurnMaterial, proximity_radius: f32) -> Self {
         Self {
             spread_rate: material.heat_spread_rate,

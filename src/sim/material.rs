@@ -23,6 +23,12 @@ pub const ABSOLUTE_ZERO: f32 = -273.15;
 /// arithmetic finite.
 pub const MAX_TEMPERATURE: f32 = 1.0e5;
 
+/// The particle spacing the heat rates given per neighbour are stated for, m: the paper
+/// model's [`BurnMaterial::heat_spread_rate`] and the physical model's convection. A cloth
+/// with particles `spacing` apart scales them by `REFERENCE_SPACING / spacing`, so fire
+/// spreads at the same speed at any resolution.
+pub const REFERENCE_SPACING: f32 = 0.03;
+
 /// How a cloth burns: its mechanics, its ignition and burnt temperatures, and how heat moves.
 ///
 /// Presets reproduce the paper's Figure 2 ignition thresholds; the other numbers are
@@ -54,8 +60,11 @@ pub struct BurnMaterial {
     pub initial_temperature: f32,
     /// Temperature an ignition point is raised to, °C.
     pub seed_temperature: f32,
-    /// Heat push rate of the paper's model, 1/s: a neighbour straight to the side of an
-    /// ignited particle gains `rate × dt × (T_ignited - T_initial)` per step.
+    /// Heat push rate of the paper's model, 1/s, for particles [`REFERENCE_SPACING`] apart:
+    /// a neighbour straight to the side of an ignited particle gains
+    /// `rate × (REFERENCE_SPACING / spacing) × dt × (T_ignited - T_initial)` per step. The
+    /// front then crosses a neighbour in a time proportional to the spacing, so it moves
+    /// the same metres per second on a fine cloth as on a coarse one.
     pub heat_spread_rate: f32,
     /// How fast an ignited particle heats itself while it burns, °C/s.
     pub self_heating_rate: f32,

@@ -179,7 +179,9 @@ pub enum HeatModel {
 pub struct PhysicalHeat {
     /// Thermal diffusivity along the cloth, m²/s.
     pub diffusivity: f32,
-    /// Rate at which heat climbs from a hot particle to a cooler one directly above, 1/s.
+    /// Rate at which heat climbs from a hot particle to a cooler one directly above, 1/s, for
+    /// particles `REFERENCE_SPACING` (3 cm) apart; scaled by `REFERENCE_SPACING / link length`
+    /// so heat climbs the same metres per second at any spacing.
     pub convection: f32,
     /// Cooling towards the air, 1/s.
     pub cooling: f32,
@@ -191,8 +193,8 @@ pub struct PhysicalHeat {
 impl PhysicalHeat {
     /// Values tuned for game cloth with particles about 3 cm apart: a 16 × 16 cotton cloth
     /// lit at the bottom burns away in about 8 s, the fire climbing faster than it spreads
-    /// sideways. Diffusivity scales with spacing²: for cloth twice as fine, a quarter of it
-    /// gives the same look.
+    /// sideways. Conduction is the heat equation and convection a transport in m/s, so the
+    /// same values spread fire at the same speed at any spacing (`examples/spread_report.rs`).
     pub const GAME: Self = Self {
         diffusivity: 6e-4,
         convection: 2.0,

@@ -1,0 +1,38 @@
+//! Prints how fast fire spreads up, sideways and down a vertical panel and up a 45° strip
+//! (16 CFR 1610), for every material, both heat models and several grid spacings, beside
+//! published figures, and writes it as Markdown.
+//!
+//! ```sh
+//! cargo run --release --example spread_report --no-default-features --features report [-- OUT_DIR [LIMIT_S [SPACING_MM ...]]]
+//! ```
+//!
+//! Writes `OUT_DIR/spread.md` (default `target/report/`); each case runs at most 60 s of
+//! simulated time by default, at spacings of 50, 25 and 12.5 mm.
+
+use bevy_burning_cloth::report::spread;
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let dir = args.next().unwrap_or_else(|| "target/report".to_owned());
+    let limit: f32 = args.next().map_or(Ok(60.0), |s| s.parse())?;
+    let mut spacings: Vec<f32> = args
+        .map(|s| s.parse::<f32>().map(|mm| mm / 1000.0))
+        .collect::<Result<_, _>>()?;
+    if spacings.is_empty() {
+        spacings = vec![0.05, 0.025, 0.0125];
+    }
+    let started = Instant::now();
+    let rows = spread::study(&spread::cases(&spacings), limit)?;
+    let table = spread::markdown(&rows, limit);
+    println!("{table}");
+    std::fs::create_dir_all(&dir)?;
+    let path = std::path::Path::new(&dir).join("spread.md");
+    std::fs::write(&path, &table)?;
+    println!(
+        "written to {} in {:.1} s",
+        path.display(),
+        started.elapsed().as_secs_f32()
+    );
+    Ok(())
+}
