@@ -56,6 +56,13 @@
 #![forbid(unsafe_code)]
 
 pub mod plugin;
+
+/// The README's Rust blocks, compiled by `cargo test --doc` (and run, where they open no
+/// window) when the features they use are on, so the README cannot drift from the crate.
+#[cfg(all(doctest, feature = "render", feature = "gltf"))]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
+
 #[cfg(feature = "render")]
 pub mod render;
 #[cfg(feature = "report")]
