@@ -9,7 +9,7 @@
 //! Writes `OUT_DIR/spread.md` (default `target/report/`); each case runs at most 60 s of
 //! simulated time by default, at spacings of 50, 25 and 12.5 mm.
 
-use bevy_burning_cloth::report::spread;
+use bevy_burning_cloth::report::{self, spread};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -25,14 +25,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let started = Instant::now();
     let rows = spread::study(&spread::cases(&spacings), limit)?;
     let table = spread::markdown(&rows, limit);
-    println!("{table}");
-    std::fs::create_dir_all(&dir)?;
-    let path = std::path::Path::new(&dir).join("spread.md");
-    std::fs::write(&path, &table)?;
-    println!(
-        "written to {} in {:.1} s",
-        path.display(),
-        started.elapsed().as_secs_f32()
-    );
+    report::print_and_write(&table, &dir, "spread.md", started)?;
     Ok(())
 }

@@ -7,7 +7,7 @@
 //!
 //! Writes `OUT_DIR/stability.md` (default `target/report/`); 600 steps of 1/60 s by default.
 
-use bevy_burning_cloth::report::stability;
+use bevy_burning_cloth::report::{self, stability};
 use std::time::Instant;
 
 fn main() -> std::io::Result<()> {
@@ -17,14 +17,6 @@ fn main() -> std::io::Result<()> {
     let started = Instant::now();
     let rows = stability::matrix(steps);
     let table = stability::markdown(&rows, steps);
-    println!("{table}");
-    std::fs::create_dir_all(&dir)?;
-    let path = std::path::Path::new(&dir).join("stability.md");
-    std::fs::write(&path, &table)?;
-    println!(
-        "written to {} in {:.1} s",
-        path.display(),
-        started.elapsed().as_secs_f32()
-    );
+    report::print_and_write(&table, &dir, "stability.md", started)?;
     Ok(())
 }
