@@ -137,11 +137,11 @@ impl PluginGroup for BurningClothPlugins {
 pub mod prelude {
     pub use crate::BurningClothPlugins;
     pub use crate::plugin::{
-        BurningClothSystems, ClothBuildSystems, ClothBurntOut, ClothCollider, ClothEnvironment,
-        ClothIgnited, ClothInUse, ClothInstability, ClothParticles, ClothParticlesBurnt,
-        ClothPieceDetached, ClothSimulationControl, ClothSimulationPlugin, ClothSolver,
-        ClothSprings, ClothStatus, ClothStepTiming, ClothTopology, DespawnWhenBurntAway,
-        Extinguish, FireSpread, HeatSource, HoldDespawn, Ignite, IgniteAt,
+        BurningClothSystems, ClothBuildSystems, ClothBurntOut, ClothCollider, ClothDiagnostics,
+        ClothEnvironment, ClothIgnited, ClothInUse, ClothInstability, ClothParticles,
+        ClothParticlesBurnt, ClothPieceDetached, ClothSimulationControl, ClothSimulationPlugin,
+        ClothSolver, ClothSprings, ClothStatus, ClothStepTiming, ClothTopology,
+        DespawnWhenBurntAway, Extinguish, FireSpread, HeatSource, HoldDespawn, Ignite, IgniteAt,
     };
     #[cfg(feature = "render")]
     pub use crate::render::{ClothRenderPlugin, Flammable};

@@ -407,3 +407,40 @@ fn extinguishing_a_region_puts_it_out_and_a_bad_request_is_ignored() {
     assert_eq!(particles.count(BurnState::Ignited), 0, "the fire came back");
     assert_eq!(particles.count(BurnState::Burnt), burnt);
 }
+
+#[test]
+fn diagnostics_report_the_step_and_the_particles_on_fire() {
+    use bevy::diagnostic::{DiagnosticPath, DiagnosticsStore};
+    let mut app = app();
+    let cloth = spawn_silk(&mut app);
+    app.world_mut()
+        .trigger(Ignite::at_world_point(cloth, Vec3::new(0.2, 1.6, 0.0)));
+    for _ in 0..64 {
+        app.update();
+    }
+    let store = app.world().resource::<DiagnosticsStore>();
+    let value = |path: &DiagnosticPath| -> f64 {
+        store
+            .get(path)
+            .and_then(|d| d.measurement())
+            .map(|m| m.value)
+            .unwrap_or_else(|| panic!("no measurement for {path}"))
+    };
+    let status = *app.world().get::<ClothStatus>(cloth).unwrap();
+    assert_eq!(value(&ClothDiagnostics::CLOTHS), 1.0);
+    assert_eq!(
+        value(&ClothDiagnostics::PARTICLES_ALIVE),
+        f64::from(status.particles - status.burnt)
+    );
+    assert_eq!(
+        value(&ClothDiagnostics::PARTICLES_BURNING),
+        f64::from(status.ignited)
+    );
+    assert!(status.ignited > 0, "the fire is burning after 1 s");
+    let step = value(&ClothDiagnostics::STEP);
+    let dynamics = value(&ClothDiagnostics::DYNAMICS);
+    assert!(
+        step > 0.0 && dynamics > 0.0 && dynamics <= step,
+        "{dynamics} of {step} ms"
+    );
+}

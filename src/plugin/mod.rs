@@ -11,7 +11,7 @@
 //! |---|---|
 //! | `Prepare` | colliders, [`HeatSource`]s and the burning particles of every cloth gathered in world space; valid settings taken into use ([`ClothInUse`]) |
 //! | `Simulate` | every cloth runs [`ClothMut::step`](crate::sim::ClothMut::step): pins, heat, combustion, dynamics, culling |
-//! | `Report` | [`ClothStatus`] written; [`ClothIgnited`], [`ClothBurntOut`], [`ClothParticlesBurnt`], [`ClothPieceDetached`], [`ClothInstability`] triggered |
+//! | `Report` | [`ClothStatus`] written; [`ClothDiagnostics`] measured; [`ClothIgnited`], [`ClothBurntOut`], [`ClothParticlesBurnt`], [`ClothPieceDetached`], [`ClothInstability`] triggered |
 //!
 //! The physics lives in [`crate::sim`]; these systems only gather, call and report. This
 //! module knows nothing of drawing, smoke or the panel: those plugins read its components.
@@ -21,6 +21,7 @@
 
 mod components;
 mod control;
+mod diagnostics;
 mod events;
 mod heat_sources;
 mod schedule;
@@ -33,6 +34,7 @@ pub use components::{
 #[cfg(feature = "smoke")]
 pub(crate) use control::consume_pending_step;
 pub use control::{ClothSimulationControl, ClothStepTiming, simulation_is_running};
+pub use diagnostics::ClothDiagnostics;
 pub use events::{
     ClothBurntOut, ClothIgnited, ClothInstability, ClothParticlesBurnt, ClothPieceDetached,
     Extinguish, Ignite, IgniteAt,
@@ -90,6 +92,7 @@ impl Plugin for ClothSimulationPlugin {
             .init_resource::<FireSpread>()
             .add_observer(events::on_ignite)
             .add_observer(events::on_extinguish);
+        diagnostics::register(app);
 
         let has_cloth = any_with_component::<ClothParticles>;
         app.configure_sets(
@@ -116,7 +119,11 @@ impl Plugin for ClothSimulationPlugin {
                     .chain()
                     .in_set(BurningClothSystems::Prepare),
                 systems::simulate_cloths.in_set(BurningClothSystems::Simulate),
-                (systems::report_cloths, control::finish_step_timer)
+                (
+                    systems::report_cloths,
+                    control::finish_step_timer,
+                    diagnostics::measure,
+                )
                     .chain()
                     .in_set(BurningClothSystems::Report),
             ),
