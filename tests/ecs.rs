@@ -444,3 +444,76 @@ fn diagnostics_report_the_step_and_the_particles_on_fire() {
         "{dynamics} of {step} ms"
     );
 }
+
+#[test]
+fn a_cloth_description_comes_back_through_reflection_and_burns() {
+    use bevy::ecs::reflect::ReflectComponent;
+    use std::any::TypeId;
+    // A description as a scene would hold it: a silk cloth with its own solver settings and
+    // a heat source at its lower middle.
+    // Bevy registers `Transform` itself where its reflection auto-registration is on (its
+    // default features); this headless build has it off.
+    let mut source = app();
+    source.register_type::<Transform>();
+    let solver = ClothSolver(bevy_burning_cloth::sim::SolverSettings {
+        substep_rate: 480.0,
+        ..Default::default()
+    });
+    let cloth = source
+        .world_mut()
+        .spawn((
+            ClothBuilder::grid(16, 16, 0.03).pin_top_corners(),
+            BurnMaterial::SILK,
+            solver,
+            Transform::from_xyz(0.0, 2.0, 0.0),
+        ))
+        .id();
+    let torch = source
+        .world_mut()
+        .spawn((HeatSource::default(), Transform::from_xyz(0.0, 1.7, 0.0)))
+        .id();
+    let described = [
+        (TypeId::of::<ClothBuilder>(), "ClothBuilder"),
+        (TypeId::of::<BurnMaterial>(), "BurnMaterial"),
+        (TypeId::of::<ClothSolver>(), "ClothSolver"),
+        (TypeId::of::<HeatSource>(), "HeatSource"),
+        (TypeId::of::<Transform>(), "Transform"),
+    ];
+    // Every component of the description, copied as dynamic values through the type
+    // registry into a fresh app (what a scene does, short of the file).
+    let mut target = app();
+    target.register_type::<Transform>();
+    let registry = source.world().resource::<AppTypeRegistry>().clone();
+    let registry = registry.read();
+    for entity in [cloth, torch] {
+        let copy = target.world_mut().spawn_empty().id();
+        for (type_id, name) in described {
+            let reflect = registry
+                .get(type_id)
+                .and_then(|registration| registration.data::<ReflectComponent>())
+                .unwrap_or_else(|| panic!("{name} is not registered as a component"));
+            if let Some(value) = reflect.reflect(source.world().entity(entity)) {
+                let value = value.to_dynamic();
+                reflect.insert(
+                    &mut target.world_mut().entity_mut(copy),
+                    value.as_partial_reflect(),
+                    &registry,
+                );
+            }
+        }
+    }
+    for _ in 0..128 {
+        target.update();
+    }
+    let mut cloths = target
+        .world_mut()
+        .query::<(&ClothStatus, &ClothSolver, &ClothInUse)>();
+    let (status, solver_back, in_use) = cloths.single(target.world()).expect("one cloth built");
+    assert_eq!(*solver_back, solver);
+    assert_eq!(*in_use.material(), BurnMaterial::SILK);
+    assert_eq!(status.particles, 256);
+    assert!(
+        status.ignited + status.burnt > 0,
+        "the heat source lit the copied cloth: {status:?}"
+    );
+}

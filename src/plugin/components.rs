@@ -45,7 +45,8 @@ pub struct ClothTopology(pub sim::Topology);
 /// How a cloth is stepped: integrator, substeps, Provot, proximity heating. Optional on a
 /// cloth entity; defaults are inserted at build time. Changing it takes effect on the next
 /// step (an invalid solver is logged and the change ignored).
-#[derive(Component, Clone, Copy, Debug, Default, Deref, DerefMut)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Deref, DerefMut, Reflect)]
+#[reflect(Component, Default, Clone, Debug, PartialEq)]
 pub struct ClothSolver(pub sim::SolverSettings);
 
 /// What the simulation is using for a cloth and what the cloth's latest step did. Read it;
@@ -114,17 +115,20 @@ pub(crate) struct ClothScratch(pub(crate) sim::ClothWorkspace);
 /// does while the cloth's smoke is still in the air). A cloth whose fire goes out with part of
 /// it left stays. Put it on the cloth entity (with the `ClothBuilder`, the
 /// `MeshClothBuilder`, or the flammable mesh).
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq, Reflect)]
+#[reflect(Component, Default, Clone, Debug, PartialEq)]
 pub struct DespawnWhenBurntAway;
 
 /// Keeps a burnt-away cloth from being despawned by [`DespawnWhenBurntAway`] while present:
 /// another plugin (the smoke, whose particles still fly) or a game system still needs the
 /// entity. Remove it when done.
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq, Reflect)]
+#[reflect(Component, Default, Clone, Debug, PartialEq)]
 pub struct HoldDespawn;
 
 /// Live numbers about a cloth, updated every fixed step, for gameplay and UI.
-#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Reflect)]
+#[reflect(Component, Default, Clone, Debug, PartialEq)]
 pub struct ClothStatus {
     /// Particles in total.
     pub particles: u32,
@@ -161,7 +165,8 @@ impl ClothStatus {
 /// A collider every cloth rests on and drapes over: put it on any entity with a
 /// [`Transform`] (a rod, a table top, the floor). Rigid; the transform's scale is ignored.
 /// A shape with NaN, infinite or negative dimensions is skipped with a warning.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Component, Clone, Debug, PartialEq)]
 #[require(Transform)]
 pub struct ClothCollider {
     /// The shape in the entity's frame.

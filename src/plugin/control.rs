@@ -7,7 +7,8 @@ use std::time::Duration;
 /// Pauses or single-steps every cloth (and its smoke). While `paused`, a step runs only for
 /// each of `pending_steps`, which [`ClothSimulationControl::step_once`] adds to. Rendering,
 /// picking and [`Ignite`](super::Ignite) keep working while paused.
-#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq, Reflect)]
+#[reflect(Resource, Default, Clone, Debug, PartialEq)]
 pub struct ClothSimulationControl {
     /// Whether the simulation is stopped.
     pub paused: bool,

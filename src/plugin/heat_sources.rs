@@ -11,7 +11,8 @@ use bevy::prelude::*;
 /// towards `temperature` at `rate` (1/s) at the centre, falling off as
 /// `(1 − distance / radius)^falloff`; hot enough, it ignites. Moving sources work: the
 /// position is read every step. Invalid values are logged once and the source skipped.
-#[derive(Component, Clone, Copy, Debug, PartialEq)]
+#[derive(Component, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Component, Clone, Debug, PartialEq)]
 #[require(Transform)]
 pub struct HeatSource {
     /// Reach, m.
@@ -64,7 +65,8 @@ impl HeatSource {
 /// *other* cloths within `radius` of a point `radius / 2` above it (fire reaches up more than
 /// sideways), towards its own temperature at `rate` (1/s). A cloth's own particles heat each
 /// other through its heat model, not through this.
-#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Resource, Clone, Debug, PartialEq)]
 pub struct FireSpread {
     /// Whether fire jumps between cloths at all.
     pub enabled: bool,

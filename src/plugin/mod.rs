@@ -50,7 +50,8 @@ use bevy::transform::TransformSystems;
 
 /// Gravity, wind and world up for every cloth. Invalid values (NaN, infinity, zero up) are
 /// logged and the previous values kept.
-#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Deref, DerefMut)]
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Deref, DerefMut, Reflect)]
+#[reflect(Resource, Default, Clone, Debug, PartialEq)]
 pub struct ClothEnvironment(pub sim::Environment);
 
 /// The systems that build cloths from [`ClothBuilder`](sim::ClothBuilder)s and
@@ -93,6 +94,7 @@ impl Plugin for ClothSimulationPlugin {
             .add_observer(events::on_ignite)
             .add_observer(events::on_extinguish);
         diagnostics::register(app);
+        register_types(app);
 
         let has_cloth = any_with_component::<ClothParticles>;
         app.configure_sets(
@@ -148,4 +150,23 @@ impl Plugin for ClothSimulationPlugin {
             systems::despawn_burnt_away.run_if(any_with_component::<DespawnWhenBurntAway>),
         );
     }
+}
+
+/// Registers the reflected types of a cloth's description and the simulation's resources, so
+/// inspectors, scenes and the Bevy Remote Protocol see them. Runtime state (particles,
+/// springs, topology, workspace) is not reflected: it is rebuilt from the description.
+fn register_types(app: &mut App) {
+    app.register_type::<sim::ClothBuilder>()
+        .register_type_data::<sim::ClothBuilder, ReflectComponent>()
+        .register_type::<sim::BurnMaterial>()
+        .register_type_data::<sim::BurnMaterial, ReflectComponent>()
+        .register_type::<ClothSolver>()
+        .register_type::<ClothStatus>()
+        .register_type::<ClothCollider>()
+        .register_type::<DespawnWhenBurntAway>()
+        .register_type::<HoldDespawn>()
+        .register_type::<HeatSource>()
+        .register_type::<FireSpread>()
+        .register_type::<ClothEnvironment>()
+        .register_type::<ClothSimulationControl>();
 }

@@ -19,7 +19,8 @@ use bevy::prelude::*;
 /// read in each mesh's local space; [`MeshPins::Top`] pins a mesh's top edge without knowing
 /// its coordinates. To burn only part of a scene, put `Flammable` on the mesh entities you
 /// want instead (found, say, by `Name` when the scene is ready).
-#[derive(Component, Clone, Debug, Default, PartialEq)]
+#[derive(Component, Clone, Debug, Default, PartialEq, Reflect)]
+#[reflect(Component, Default, Clone, Debug, PartialEq)]
 pub struct Flammable {
     /// Which vertices are pinned (local space of the mesh).
     pub pins: MeshPins,

@@ -45,6 +45,8 @@ pub struct ClothRenderPlugin;
 impl Plugin for ClothRenderPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<ClickToIgnite>()
+            .register_type::<ClickToIgnite>()
+            .register_type::<Flammable>()
             .add_observer(ignite_on_click)
             .add_systems(
                 PostUpdate,
@@ -79,7 +81,8 @@ impl Plugin for ClothRenderPlugin {
 }
 
 /// Whether clicking a cloth sets it alight at the clicked point (primary button).
-#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, Reflect)]
+#[reflect(Resource, Clone, Debug, PartialEq)]
 pub struct ClickToIgnite {
     /// On by default.
     pub enabled: bool,

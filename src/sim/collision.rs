@@ -6,10 +6,12 @@
 //! Colliders are rigid (their transform's scale is ignored).
 
 use super::particles::Particles;
+use bevy::reflect::Reflect;
 use glam::{Affine3A, Vec3};
 
 /// The shape of a collider in its own frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub enum ColliderShape {
     /// A ball of `radius` metres around the origin.
     Sphere {

@@ -5,13 +5,15 @@ use super::material::BurnMaterial;
 use super::particles::{BurnState, Particles};
 use super::springs::{SpringKind, Springs};
 use super::topology::{GridShape, Topology};
+use bevy::reflect::{Reflect, std_traits::ReflectDefault};
 use glam::{Affine3A, Vec2, Vec3};
 
 /// Most particles one cloth may have (about 1M): beyond it a build is refused.
 pub const MAX_PARTICLES: u64 = 1 << 20;
 
 /// Which plane a grid cloth is laid out in, in the cloth's own frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Reflect)]
+#[reflect(Default, Clone, Debug, PartialEq)]
 pub enum GridPlane {
     /// Hanging: columns along +X, rows downward along −Y, the top edge through the origin.
     #[default]
@@ -22,7 +24,8 @@ pub enum GridPlane {
 
 /// A region cut out of a grid cloth before it is simulated, in metres in the cloth's plane
 /// measured from the top-left particle (x along the columns, y along the rows).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub enum Cutout {
     /// A disc.
     Disc {
@@ -69,7 +72,8 @@ impl Cutout {
 /// assert_eq!(parts.particles.len(), 32 * 32);
 /// assert_eq!(parts.particles.pins_left(), 2);
 /// ```
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub struct ClothBuilder {
     /// Particles per row (at least 2).
     pub columns: u32,

@@ -8,10 +8,12 @@
 //! plugin logs a warning and triggers `ClothInstability`).
 
 use super::particles::Particles;
+use bevy::reflect::Reflect;
 use glam::Vec3;
 
 /// Settings of the guard.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub struct GuardSettings {
     /// Whether the guard runs (off only to study raw solver failures).
     pub enabled: bool,

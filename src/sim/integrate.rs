@@ -16,10 +16,12 @@ use super::guard::GuardSettings;
 use super::particles::Particles;
 use super::springs::{SpringCoefficients, Springs};
 use super::xpbd::{Surroundings, XpbdSolver};
+use bevy::reflect::{Reflect, std_traits::ReflectDefault};
 use glam::{Affine3A, Vec3};
 
 /// Which integrator advances the cloth.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Reflect)]
+#[reflect(Default, Clone, Debug, PartialEq)]
 pub enum Integrator {
     /// Forward Euler, `x += h v; v += h a(x, v)`: the paper's method. Adds energy every
     /// step; kept to reproduce the paper and to show why not to use it.

@@ -4,6 +4,7 @@
 //! Units are SI with temperatures in degrees Celsius. The paper quotes Fahrenheit; the
 //! conversion happens here, once, in [`fahrenheit_to_celsius`].
 
+use bevy::reflect::Reflect;
 use core::fmt;
 
 /// Converts a temperature from degrees Fahrenheit to degrees Celsius.
@@ -34,7 +35,8 @@ pub const REFERENCE_SPACING: f32 = 0.03;
 /// Presets reproduce the paper's Figure 2 ignition thresholds; the other numbers are
 /// chosen so the materials differ the way the paper's Figure 9 shows (silk light and quick,
 /// denim heavy and slow). All fields are public; [`BurnMaterial::validate`] checks them.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub struct BurnMaterial {
     /// Display name.
     pub name: &'static str,

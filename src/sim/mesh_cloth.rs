@@ -12,12 +12,14 @@ use super::material::BurnMaterial;
 use super::particles::{BurnState, Particles};
 use super::springs::{SpringKind, Springs};
 use super::topology::{Topology, cull_triangles};
+use bevy::reflect::{Reflect, std_traits::ReflectDefault};
 use glam::{Affine3A, Vec2, Vec3};
 use std::sync::Arc;
 
 /// Which vertices of a mesh are pinned. Positions are in the mesh's local space (before the
 /// entity's transform), as the mesh asset stores them.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, Reflect)]
+#[reflect(Default, Clone, Debug, PartialEq)]
 pub enum MeshPins {
     /// None: the whole mesh falls.
     #[default]
@@ -40,7 +42,7 @@ pub enum MeshPins {
     /// Vertices by index into the mesh's vertex list (before welding): a vertex group.
     Indices(Vec<u32>),
     /// Vertices for which your rule returns `true`; see [`MeshPins::custom`].
-    Custom(PinRule),
+    Custom(#[reflect(ignore)] PinRule),
 }
 
 impl MeshPins {
@@ -88,6 +90,14 @@ impl MeshPins {
 /// when they are the same closure (the same `Arc`).
 #[derive(Clone)]
 pub struct PinRule(pub Arc<dyn Fn(u32, Vec3) -> bool + Send + Sync>);
+
+/// A rule that pins nothing: what a custom rule becomes when a [`MeshPins`] comes back
+/// through reflection (a scene file), since a closure cannot be saved.
+impl Default for PinRule {
+    fn default() -> Self {
+        Self(Arc::new(|_, _| false))
+    }
+}
 
 impl std::fmt::Debug for PinRule {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -8,13 +8,15 @@
 
 use super::particles::Particles;
 use super::springs::Springs;
+use bevy::reflect::Reflect;
 use glam::Vec3;
 
 /// Relative excess below which a spring counts as within the limit (round-off).
 pub const STRETCH_TOLERANCE: f32 = 1e-5;
 
 /// Settings of Provot's correction.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub struct ProvotSettings {
     /// Largest allowed relative stretch τ (0.1 = 10 %, Provot's value).
     pub max_stretch: f32,

@@ -6,10 +6,12 @@ use super::guard::GuardSettings;
 use super::integrate::Integrator;
 use super::material::BurnMaterial;
 use super::provot::ProvotSettings;
+use bevy::reflect::{Reflect, std_traits::ReflectDefault};
 use glam::Vec3;
 
 /// How the cloth is stepped: integrator, substeps, constraints, proximity heating.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub struct SolverSettings {
     /// The time integrator.
     pub integrator: Integrator,
@@ -162,7 +164,8 @@ pub struct StepPlan {
 }
 
 /// How heat moves through a cloth.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Reflect)]
+#[reflect(Default, Clone, Debug, PartialEq)]
 pub enum HeatModel {
     /// The paper's model: burning particles push heat to their neighbours, weighted
     /// upward; heat only grows (see [`super::heat`]).
@@ -175,7 +178,8 @@ pub enum HeatModel {
 }
 
 /// The physical heat model's parameters (see [`super::conduction`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub struct PhysicalHeat {
     /// Thermal diffusivity along the cloth, m²/s.
     pub diffusivity: f32,
@@ -246,7 +250,8 @@ impl HeatModel {
 }
 
 /// The world around the cloths.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Reflect)]
+#[reflect(Clone, Debug, PartialEq)]
 pub struct Environment {
     /// Gravitational acceleration, m/s².
     pub gravity: Vec3,
@@ -285,7 +290,8 @@ impl Environment {
 
 /// Everything a cloth is stepped with: its material, its solver and the world around it.
 /// The simulation only ever holds validated settings.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Reflect)]
+#[reflect(Default, Clone, Debug, PartialEq)]
 pub struct ClothSettings {
     /// The material.
     pub material: BurnMaterial,
