@@ -30,6 +30,11 @@ pub const MAX_TEMPERATURE: f32 = 1.0e5;
 /// spreads at the same speed at any resolution.
 pub const REFERENCE_SPACING: f32 = 0.03;
 
+/// The name a material gets when it comes back through reflection.
+fn custom_name() -> &'static str {
+    "custom"
+}
+
 /// How a cloth burns: its mechanics, its ignition and burnt temperatures, and how heat moves.
 ///
 /// Presets reproduce the paper's Figure 2 ignition thresholds; the other numbers are
@@ -38,7 +43,9 @@ pub const REFERENCE_SPACING: f32 = 0.03;
 #[derive(Clone, Copy, Debug, PartialEq, Reflect)]
 #[reflect(Clone, Debug, PartialEq)]
 pub struct BurnMaterial {
-    /// Display name.
+    /// Display name. Not reflected (a `&'static str` cannot be loaded from a scene file): a
+    /// material loaded through reflection is named "custom".
+    #[reflect(ignore, default = "custom_name")]
     pub name: &'static str,
     /// Colour of fresh cloth, sRGB components in [0, 1].
     pub base_colour: [f32; 3],

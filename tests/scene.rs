@@ -1,0 +1,109 @@
+//! A cloth's description saved as a Bevy world (scene) in RON and loaded into a fresh app
+//! builds and burns the same cloth. Needs Bevy's world serialization, which the `gltf`
+//! feature brings in.
+#![cfg(feature = "gltf")]
+
+use bevy::asset::{AssetPath, LoadFromPath, UntypedHandle};
+use bevy::ecs::entity::EntityHashMap;
+use bevy::prelude::*;
+use bevy::time::TimeUpdateStrategy;
+use bevy::world_serialization::DynamicWorldBuilder;
+use bevy::world_serialization::serde::WorldDeserializer;
+use bevy_burning_cloth::prelude::*;
+use bevy_burning_cloth::sim::SolverSettings;
+use serde::de::DeserializeSeed;
+use std::any::TypeId;
+use std::time::Duration;
+
+fn app() -> App {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, BurningClothPlugins::default()))
+        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_micros(
+            15_625,
+        )))
+        .register_type::<Transform>();
+    app
+}
+
+/// The description holds no asset handles; any asked for is a test failure.
+struct NoAssets;
+
+impl LoadFromPath for NoAssets {
+    fn load_from_path_erased(&mut self, _: TypeId, path: AssetPath<'static>) -> UntypedHandle {
+        panic!("the cloth description asked for an asset: {path}")
+    }
+}
+
+#[test]
+fn a_cloth_saved_as_ron_loads_into_a_fresh_app_and_burns() {
+    let mut source = app();
+    let solver = ClothSolver(SolverSettings {
+        substep_rate: 480.0,
+        ..Default::default()
+    });
+    let cloth = source
+        .world_mut()
+        .spawn((
+            ClothBuilder::grid(16, 16, 0.03).pin_top_corners(),
+            BurnMaterial::SILK,
+            solver,
+            Transform::from_xyz(0.0, 2.0, 0.0),
+        ))
+        .id();
+    let torch = source
+        .world_mut()
+        .spawn((HeatSource::default(), Transform::from_xyz(0.0, 1.7, 0.0)))
+        .id();
+    let registry = source.world().resource::<AppTypeRegistry>().clone();
+    let ron = {
+        let registry = registry.read();
+        DynamicWorldBuilder::from_world(source.world(), &registry)
+            .extract_entities([cloth, torch].into_iter())
+            .build()
+            .serialize(&registry)
+            .expect("serialises")
+    };
+    assert!(
+        ron.contains("ClothBuilder") && ron.contains("HeatSource"),
+        "{ron}"
+    );
+
+    let mut target = app();
+    let registry = target.world().resource::<AppTypeRegistry>().clone();
+    let world = {
+        let registry = registry.read();
+        let mut deserializer = ron::de::Deserializer::from_str(&ron).expect("RON");
+        WorldDeserializer {
+            type_registry: &registry,
+            load_from_path: &mut NoAssets,
+        }
+        .deserialize(&mut deserializer)
+        .expect("deserialises")
+    };
+    world
+        .write_to_world(target.world_mut(), &mut EntityHashMap::default())
+        .expect("spawns");
+    for _ in 0..128 {
+        target.update();
+    }
+    let mut cloths = target
+        .world_mut()
+        .query::<(&ClothStatus, &ClothSolver, &ClothInUse)>();
+    let (status, solver_back, in_use) = cloths.single(target.world()).expect("one cloth built");
+    assert_eq!(*solver_back, solver);
+    // Every field but the name, which reflection does not keep.
+    let material = *in_use.material();
+    assert_eq!(material.name, "custom");
+    assert_eq!(
+        BurnMaterial {
+            name: BurnMaterial::SILK.name,
+            ..material
+        },
+        BurnMaterial::SILK
+    );
+    assert_eq!(status.particles, 256);
+    assert!(
+        status.ignited + status.burnt > 0,
+        "the loaded heat source lit the loaded cloth: {status:?}"
+    );
+}
