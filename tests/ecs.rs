@@ -5,6 +5,8 @@ use bevy::time::TimeUpdateStrategy;
 use bevy_burning_cloth::prelude::*;
 use std::time::Duration;
 
+mod common;
+
 /// 64 Hz: Bevy's default fixed step, exact in nanoseconds, so each update runs one step.
 const STEP: Duration = Duration::from_micros(15_625);
 
@@ -449,29 +451,11 @@ fn diagnostics_report_the_step_and_the_particles_on_fire() {
 fn a_cloth_description_comes_back_through_reflection_and_burns() {
     use bevy::ecs::reflect::ReflectComponent;
     use std::any::TypeId;
-    // A description as a scene would hold it: a silk cloth with its own solver settings and
-    // a heat source at its lower middle.
     // Bevy registers `Transform` itself where its reflection auto-registration is on (its
     // default features); this headless build has it off.
     let mut source = app();
     source.register_type::<Transform>();
-    let solver = ClothSolver(bevy_burning_cloth::sim::SolverSettings {
-        substep_rate: 480.0,
-        ..Default::default()
-    });
-    let cloth = source
-        .world_mut()
-        .spawn((
-            ClothBuilder::grid(16, 16, 0.03).pin_top_corners(),
-            BurnMaterial::SILK,
-            solver,
-            Transform::from_xyz(0.0, 2.0, 0.0),
-        ))
-        .id();
-    let torch = source
-        .world_mut()
-        .spawn((HeatSource::default(), Transform::from_xyz(0.0, 1.7, 0.0)))
-        .id();
+    let [cloth, torch] = common::spawn_description(source.world_mut());
     let described = [
         (TypeId::of::<ClothBuilder>(), "ClothBuilder"),
         (TypeId::of::<BurnMaterial>(), "BurnMaterial"),
@@ -502,27 +486,6 @@ fn a_cloth_description_comes_back_through_reflection_and_burns() {
             }
         }
     }
-    for _ in 0..128 {
-        target.update();
-    }
-    let mut cloths = target
-        .world_mut()
-        .query::<(&ClothStatus, &ClothSolver, &ClothInUse)>();
-    let (status, solver_back, in_use) = cloths.single(target.world()).expect("one cloth built");
-    assert_eq!(*solver_back, solver);
-    // Every field but the name, which reflection does not keep.
-    let material = *in_use.material();
-    assert_eq!(material.name, "custom");
-    assert_eq!(
-        BurnMaterial {
-            name: BurnMaterial::SILK.name,
-            ..material
-        },
-        BurnMaterial::SILK
-    );
-    assert_eq!(status.particles, 256);
-    assert!(
-        status.ignited + status.burnt > 0,
-        "the heat source lit the copied cloth: {status:?}"
-    );
+    drop(registry);
+    common::assert_built_and_burning(&mut target);
 }

@@ -10,10 +10,11 @@ use bevy::time::TimeUpdateStrategy;
 use bevy::world_serialization::DynamicWorldBuilder;
 use bevy::world_serialization::serde::WorldDeserializer;
 use bevy_burning_cloth::prelude::*;
-use bevy_burning_cloth::sim::SolverSettings;
 use serde::de::DeserializeSeed;
 use std::any::TypeId;
 use std::time::Duration;
+
+mod common;
 
 fn app() -> App {
     let mut app = App::new();
@@ -37,23 +38,7 @@ impl LoadFromPath for NoAssets {
 #[test]
 fn a_cloth_saved_as_ron_loads_into_a_fresh_app_and_burns() {
     let mut source = app();
-    let solver = ClothSolver(SolverSettings {
-        substep_rate: 480.0,
-        ..Default::default()
-    });
-    let cloth = source
-        .world_mut()
-        .spawn((
-            ClothBuilder::grid(16, 16, 0.03).pin_top_corners(),
-            BurnMaterial::SILK,
-            solver,
-            Transform::from_xyz(0.0, 2.0, 0.0),
-        ))
-        .id();
-    let torch = source
-        .world_mut()
-        .spawn((HeatSource::default(), Transform::from_xyz(0.0, 1.7, 0.0)))
-        .id();
+    let [cloth, torch] = common::spawn_description(source.world_mut());
     let registry = source.world().resource::<AppTypeRegistry>().clone();
     let ron = {
         let registry = registry.read();
@@ -83,27 +68,5 @@ fn a_cloth_saved_as_ron_loads_into_a_fresh_app_and_burns() {
     world
         .write_to_world(target.world_mut(), &mut EntityHashMap::default())
         .expect("spawns");
-    for _ in 0..128 {
-        target.update();
-    }
-    let mut cloths = target
-        .world_mut()
-        .query::<(&ClothStatus, &ClothSolver, &ClothInUse)>();
-    let (status, solver_back, in_use) = cloths.single(target.world()).expect("one cloth built");
-    assert_eq!(*solver_back, solver);
-    // Every field but the name, which reflection does not keep.
-    let material = *in_use.material();
-    assert_eq!(material.name, "custom");
-    assert_eq!(
-        BurnMaterial {
-            name: BurnMaterial::SILK.name,
-            ..material
-        },
-        BurnMaterial::SILK
-    );
-    assert_eq!(status.particles, 256);
-    assert!(
-        status.ignited + status.burnt > 0,
-        "the loaded heat source lit the loaded cloth: {status:?}"
-    );
+    common::assert_built_and_burning(&mut target);
 }
