@@ -88,7 +88,7 @@ pub(crate) fn measure(
     diagnostics.add_measurement(&ClothDiagnostics::PARTICLES_ALIVE, || {
         cloths
             .iter()
-            .map(|(_, status)| f64::from(status.particles - status.burnt.min(status.particles)))
+            .map(|(_, status)| f64::from(status.particles.saturating_sub(status.burnt)))
             .sum()
     });
     diagnostics.add_measurement(&ClothDiagnostics::PARTICLES_BURNING, || {
