@@ -303,6 +303,79 @@ fn smoke_table() {
     }
 }
 
+/// Times the plume over a burning cloth: (ms per frame feeding and stepping the air, CG
+/// iterations per frame, ms per frame the plume acting on the cloth), medians over the
+/// measured frames.
+#[cfg(feature = "fluid")]
+fn plume_run(resolution: usize, pool: &TaskPool) -> (f64, f64, f64) {
+    use bevy_burning_cloth::fluid::{Plume, PlumeSettings, blow_and_heat, feed_plume};
+    use bevy_burning_cloth::smoke::BurningCloth;
+    let size = 64;
+    let mut cloth = ClothSim::new(
+        &ClothBuilder::grid(size, size, 1.5 / size as f32).pin_top_every(4),
+        BurnMaterial::COTTON,
+        Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
+    )
+    .expect("valid cloth");
+    let grid = cloth.topology.grid.unwrap();
+    cloth.ignite(grid.index(size / 2, size - 1)).unwrap();
+    // The same box whatever the resolution: 2.56 m a side.
+    let settings = PlumeSettings {
+        resolution: [resolution; 3],
+        cell_size: 2.56 / resolution as f32,
+        ..Default::default()
+    };
+    let mut plume = Plume::new(settings, Vec3::new(-1.28, 0.0, -1.28)).expect("valid plume");
+    let material = *cloth.material();
+    let mut frame = |timed: bool| {
+        let started = Instant::now();
+        blow_and_heat(&plume, &mut cloth.particles, &material, 20.0, true, DT);
+        let coupled = started.elapsed();
+        cloth.step(DT);
+        let started = Instant::now();
+        feed_plume(
+            &mut plume,
+            &BurningCloth::of(&cloth),
+            &material,
+            &cloth.particles.mass,
+            DT,
+        );
+        let report = plume.step_on(DT, Vec3::ZERO, Vec3::Y, Some(pool));
+        let stepped = started.elapsed();
+        timed.then_some((ms(stepped), f64::from(report.solve.iterations), ms(coupled)))
+    };
+    for _ in 0..120 {
+        frame(false);
+    }
+    let mut samples: Vec<(f64, f64, f64)> = (0..60).filter_map(|_| frame(true)).collect();
+    let middle = samples.len() / 2;
+    let pick = |samples: &mut Vec<(f64, f64, f64)>, key: fn(&(f64, f64, f64)) -> f64| {
+        samples.sort_by(|a, b| key(a).total_cmp(&key(b)));
+        key(&samples[middle])
+    };
+    (
+        pick(&mut samples, |s| s.0),
+        pick(&mut samples, |s| s.1),
+        pick(&mut samples, |s| s.2),
+    )
+}
+
+#[cfg(feature = "fluid")]
+fn plume_table(pool: &TaskPool) {
+    println!();
+    println!(
+        "| plume grid (2.56 m box) | cells | step ms per frame (median of 60) | CG iterations | plume on the 64 x 64 cloth, ms |"
+    );
+    println!("|---|---|---|---|---|");
+    for resolution in [16, 24, 32, 40, 48] {
+        let (step, iterations, coupling) = plume_run(resolution, pool);
+        println!(
+            "| {resolution}³ | {} | {step:.3} | {iterations:.0} | {coupling:.3} |",
+            resolution.pow(3)
+        );
+    }
+}
+
 fn main() {
     // Bevy's default pools give compute one thread on a 2-core machine, and its schedule
     // runs systems on compute threads only: give compute every core, as a game that wants
@@ -316,8 +389,15 @@ fn main() {
         pool.thread_num(),
         cfg!(feature = "parallel")
     );
+    if std::env::args().any(|a| a == "--plume-only") {
+        #[cfg(feature = "fluid")]
+        plume_table(pool);
+        return;
+    }
     size_table(pool);
     many_cloths_table();
     #[cfg(feature = "smoke")]
     smoke_table();
+    #[cfg(feature = "fluid")]
+    plume_table(pool);
 }

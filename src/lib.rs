@@ -63,6 +63,8 @@ pub mod plugin;
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
 
+#[cfg(feature = "fluid")]
+pub mod fluid;
 #[cfg(feature = "render")]
 pub mod render;
 #[cfg(feature = "report")]
@@ -93,6 +95,7 @@ use bevy::ecs::schedule::ScheduleLabel;
 /// | [`ClothSimulationPlugin`](plugin::ClothSimulationPlugin) | always | building cloths, the step of every cloth, [`Ignite`](plugin::Ignite), events |
 /// | `ClothRenderPlugin` | `render` | a dynamic mesh per cloth, the burning-cloth material, click to ignite, `Flammable` meshes |
 /// | `SmokePlugin` | `smoke` | a flame, smoke and ember emitter per cloth |
+/// | `FluidPlugin` | `fluid` | the fire's air: a plume grid that carries the smoke, blows on and heats the cloth |
 /// | `SmokeRenderPlugin` | `smoke` + `render` | the particles as billboards |
 ///
 /// `.build().disable::<X>()` removes one. The simulation runs in `FixedUpdate`;
@@ -127,6 +130,10 @@ impl PluginGroup for BurningClothPlugins {
         let group = group.add(smoke::SmokePlugin {
             schedule: self.schedule,
         });
+        #[cfg(feature = "fluid")]
+        let group = group.add(fluid::FluidPlugin {
+            schedule: self.schedule,
+        });
         #[cfg(all(feature = "smoke", feature = "render"))]
         let group = group.add(smoke::render::SmokeRenderPlugin);
         group
@@ -136,6 +143,8 @@ impl PluginGroup for BurningClothPlugins {
 /// The types most users need.
 pub mod prelude {
     pub use crate::BurningClothPlugins;
+    #[cfg(feature = "fluid")]
+    pub use crate::fluid::{FirePlume, FluidPlugin, PlumeSettings};
     pub use crate::plugin::{
         BurningClothSystems, ClothBuildSystems, ClothBurntOut, ClothCollider, ClothDiagnostics,
         ClothEnvironment, ClothIgnited, ClothInUse, ClothInstability, ClothParticles,

@@ -69,6 +69,10 @@ impl<'a> BurningCloth<'a> {
     }
 }
 
+/// Share of the curl-noise turbulence kept inside a simulated plume, whose grid resolves the
+/// large eddies itself: the rest is detail smaller than a cell.
+const SUBGRID_EDDIES: f32 = 0.35;
+
 /// The air particles move in.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Air {
@@ -258,6 +262,19 @@ impl SmokeSim {
     /// dragged towards the air's velocity (wind plus curl-noise turbulence). The velocity
     /// update is implicit in the drag, so any `dt` is stable.
     pub fn advance(&mut self, air: &Air, dt: f32) -> SmokeCounts {
+        self.advance_in(air, |_| None, dt)
+    }
+
+    /// [`SmokeSim::advance`] in a moving air: where `flow(position)` gives a velocity (m/s,
+    /// relative to the wind; a simulated plume), particles are carried by it, curl noise
+    /// adds only sub-grid detail, and their own buoyancy is off (the plume's air is what
+    /// rises); where it gives `None`, they move as in still air.
+    pub fn advance_in(
+        &mut self,
+        air: &Air,
+        flow: impl Fn(Vec3) -> Option<Vec3>,
+        dt: f32,
+    ) -> SmokeCounts {
         let mut counts = SmokeCounts::default();
         if !(dt.is_finite() && dt > 0.0) {
             return counts;
@@ -281,9 +298,12 @@ impl SmokeSim {
             let settings: &KindSettings = &self.settings.kind[kind];
             let temperature = ambient + (self.pool.temperature[slot] - ambient) * cooled[kind];
             let position = self.pool.position[slot];
-            let air_velocity =
-                air.wind + self.turbulence.velocity(position, time) * settings.turbulence;
-            let acceleration = up * (settings.buoyancy * (temperature - ambient) * 1e-3)
+            let eddies = self.turbulence.velocity(position, time) * settings.turbulence;
+            let (air_velocity, buoyancy) = match flow(position) {
+                Some(plume) => (air.wind + plume + eddies * SUBGRID_EDDIES, 0.0),
+                None => (air.wind + eddies, settings.buoyancy),
+            };
+            let acceleration = up * (buoyancy * (temperature - ambient) * 1e-3)
                 + air.gravity * settings.gravity_scale;
             let velocity = (self.pool.velocity[slot]
                 + dt * (acceleration + settings.drag * air_velocity))

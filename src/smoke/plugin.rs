@@ -146,13 +146,27 @@ fn emit_smoke(
 fn advance_smoke(
     time: Res<Time>,
     environment: Res<ClothEnvironment>,
+    #[cfg(feature = "fluid")] fire: Option<Res<crate::fluid::FirePlume>>,
     mut commands: Commands,
     mut emitters: Query<(Entity, &mut SmokeEmitter, Has<HoldDespawn>)>,
 ) {
     let air = air(&environment);
+    #[cfg(feature = "fluid")]
+    let plume = fire.as_deref().and_then(crate::fluid::FirePlume::active);
+    #[cfg(not(feature = "fluid"))]
+    let plume: Option<&()> = None;
     for (entity, mut emitter, held) in &mut emitters {
         if !emitter.sim.pool.is_empty() {
-            emitter.sim.advance(&air, time.delta_secs());
+            match plume {
+                #[cfg(feature = "fluid")]
+                Some(plume) => {
+                    let flow = |p: Vec3| plume.shape().contains(p).then(|| plume.velocity_at(p));
+                    emitter.sim.advance_in(&air, flow, time.delta_secs());
+                }
+                _ => {
+                    emitter.sim.advance(&air, time.delta_secs());
+                }
+            }
         }
         let in_the_air = !emitter.sim.pool.is_empty();
         if in_the_air && !held {

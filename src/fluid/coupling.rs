@@ -1,0 +1,105 @@
+//! The two ways between cloth and air: burning cloth feeds the plume heat and smoke; the
+//! plume blows on the cloth (the cloth's own air drag, against the plume's velocity) and
+//! heats the cloth it bathes.
+
+use super::plume::Plume;
+use crate::sim::{BurnMaterial, Particles};
+use crate::smoke::BurningCloth;
+
+/// Feeds `plume` from one cloth over `dt` seconds. A burning particle burns its mass `m`
+/// away over `τ = (T_burnt − T_ignition) / self_heating_rate` seconds (the material's own
+/// burn time), so it gives the air `χ ΔH_c m dt / τ` joules (heat of combustion `ΔH_c`,
+/// convective fraction `χ`) and `yield × m dt / τ` of smoke at its position: the heat a
+/// cloth gives off is the heat in the mass it burns, at any resolution. Returns the heat
+/// given, J.
+pub fn feed_plume(
+    plume: &mut Plume,
+    cloth: &BurningCloth,
+    material: &BurnMaterial,
+    mass: &[f32],
+    dt: f32,
+) -> f32 {
+    if !(dt.is_finite() && dt > 0.0) {
+        return 0.0;
+    }
+    let burn_time = ((material.burnt_temperature - material.ignition_temperature)
+        / material.self_heating_rate)
+        .max(MIN_BURN_TIME);
+    if !burn_time.is_finite() {
+        return 0.0;
+    }
+    let settings = *plume.settings();
+    let heat_per_kg = settings.convective_fraction * settings.heat_of_combustion * dt / burn_time;
+    let smoke_per_kg = settings.smoke_yield * dt / burn_time;
+    let mut given = 0.0;
+    for ((position, state), mass) in cloth.position.iter().zip(cloth.state).zip(mass) {
+        if !(state.is_ignited() && mass.is_finite() && *mass > 0.0) {
+            continue;
+        }
+        plume.add_heat(*position, heat_per_kg * mass);
+        plume.add_smoke(*position, smoke_per_kg * mass);
+        given += heat_per_kg * mass;
+    }
+    given
+}
+
+/// Shortest burn time a particle is given, s (a material that burns faster still releases
+/// its heat over this time, so one frame's feed stays bounded).
+const MIN_BURN_TIME: f32 = 0.1;
+
+/// What the plume did to one cloth in one call of [`blow_and_heat`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PlumeOnCloth {
+    /// Particles inside the plume's box.
+    pub inside: u32,
+    /// Particles the hot air warmed.
+    pub heated: u32,
+}
+
+/// The plume acting on one cloth for the coming step of `dt` seconds: each free, unburnt
+/// particle inside the box feels the cloth's air drag against the plume's velocity (added
+/// to `external_force`, which the step clears), and air hotter than it warms it by
+/// convection, `dT/dt = h (T_air − T) / (ρ_A c)`, integrated exactly over `dt` (it never
+/// overshoots the air's temperature). `ambient` is the air's temperature outside the plume,
+/// °C. With `heating` false the plume only blows (the plugin turns heating off with
+/// `FireSpread::enabled`, since the plume is how fire jumps through the air).
+pub fn blow_and_heat(
+    plume: &Plume,
+    particles: &mut Particles,
+    material: &BurnMaterial,
+    ambient: f32,
+    heating: bool,
+    dt: f32,
+) -> PlumeOnCloth {
+    let mut result = PlumeOnCloth::default();
+    if plume.is_quiet() || !(dt.is_finite() && dt > 0.0) || !ambient.is_finite() {
+        return result;
+    }
+    let settings = plume.settings();
+    let drag_per_mass = material.air_drag / material.areal_density;
+    let rate =
+        settings.cloth_heat_transfer / (material.areal_density * settings.cloth_specific_heat);
+    let warmed = 1.0 - (-rate * dt).exp();
+    let shape = plume.shape();
+    for i in 0..particles.len() {
+        let position = particles.position[i];
+        if !shape.contains(position) || particles.state[i].is_burnt() {
+            continue;
+        }
+        result.inside += 1;
+        if particles.inv_mass[i] != 0.0 {
+            let wind = plume.velocity_at(position);
+            particles.external_force[i] += drag_per_mass * particles.mass[i] * wind;
+        }
+        if !heating {
+            continue;
+        }
+        let air = ambient + plume.temperature_at(position);
+        let t = &mut particles.temperature[i];
+        if air > *t {
+            *t += (air - *t) * warmed;
+            result.heated += 1;
+        }
+    }
+    result
+}

@@ -1,0 +1,234 @@
+//! The box the air is simulated in: its cells, its staggered faces, and trilinear sampling.
+//!
+//! Cell `(i, j, k)` covers `origin + cell × [i, i+1) × [j, j+1) × [k, k+1)` in world
+//! axes. Scalars (temperature, smoke, pressure) live at cell centres; the velocity is
+//! staggered (a MAC grid): its x component on the faces between cells along x, and so on,
+//! so the divergence of a cell is the sum of its six face fluxes.
+
+use glam::Vec3;
+
+/// Where a field's samples sit inside a cell, in cells: centres are at `(0.5, 0.5, 0.5)`,
+/// the x faces at `(0, 0.5, 0.5)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stagger(pub Vec3);
+
+impl Stagger {
+    /// Cell centres.
+    pub const CENTRE: Self = Self(Vec3::splat(0.5));
+    /// Faces between cells along `axis` (0 = x, 1 = y, 2 = z).
+    pub const fn face(axis: usize) -> Self {
+        match axis {
+            0 => Self(Vec3::new(0.0, 0.5, 0.5)),
+            1 => Self(Vec3::new(0.5, 0.0, 0.5)),
+            _ => Self(Vec3::new(0.5, 0.5, 0.0)),
+        }
+    }
+}
+
+/// The shape of a grid: cells along each axis, cell size and where its corner is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridShape {
+    /// Cells along x, y and z.
+    pub dims: [usize; 3],
+    /// Edge of a cubic cell, m.
+    pub cell: f32,
+    /// World position of the grid's minimum corner, m.
+    pub origin: Vec3,
+}
+
+impl GridShape {
+    /// Number of cells.
+    pub fn cells(&self) -> usize {
+        self.dims[0] * self.dims[1] * self.dims[2]
+    }
+
+    /// Sample counts along each axis of the faces normal to `axis`.
+    pub fn face_dims(&self, axis: usize) -> [usize; 3] {
+        let mut dims = self.dims;
+        dims[axis] += 1;
+        dims
+    }
+
+    /// Number of faces normal to `axis`.
+    pub fn faces(&self, axis: usize) -> usize {
+        let [x, y, z] = self.face_dims(axis);
+        x * y * z
+    }
+
+    /// Index of cell `(i, j, k)`.
+    #[inline]
+    pub fn index(&self, i: usize, j: usize, k: usize) -> usize {
+        i + self.dims[0] * (j + self.dims[1] * k)
+    }
+
+    /// World size of the box, m.
+    pub fn size(&self) -> Vec3 {
+        Vec3::new(
+            self.dims[0] as f32,
+            self.dims[1] as f32,
+            self.dims[2] as f32,
+        ) * self.cell
+    }
+
+    /// Whether `point` lies inside the box.
+    pub fn contains(&self, point: Vec3) -> bool {
+        let local = point - self.origin;
+        local.cmpge(Vec3::ZERO).all() && local.cmplt(self.size()).all()
+    }
+
+    /// World position of a sample `(i, j, k)` of a field staggered by `stagger`.
+    #[inline]
+    pub fn position(&self, i: usize, j: usize, k: usize, stagger: Stagger) -> Vec3 {
+        self.origin + (Vec3::new(i as f32, j as f32, k as f32) + stagger.0) * self.cell
+    }
+
+    /// The trilinear stencil at `point` for a field of `dims` samples staggered by
+    /// `stagger`: points outside the samples take the nearest sample's value.
+    #[inline(always)]
+    pub fn stencil(&self, point: Vec3, dims: [usize; 3], stagger: Stagger) -> Stencil {
+        let g = (point - self.origin) * (1.0 / self.cell) - stagger.0;
+        let (i, fx) = axis_cell(g.x, dims[0]);
+        let (j, fy) = axis_cell(g.y, dims[1]);
+        let (k, fz) = axis_cell(g.z, dims[2]);
+        let sy = dims[0];
+        let sz = dims[0] * dims[1];
+        Stencil {
+            base: i + sy * j + sz * k,
+            step: [
+                usize::from(dims[0] > 1),
+                if dims[1] > 1 { sy } else { 0 },
+                if dims[2] > 1 { sz } else { 0 },
+            ],
+            frac: [fx, fy, fz],
+        }
+    }
+
+    /// Trilinear value of a field of `dims` samples staggered by `stagger` at `point`.
+    #[inline(always)]
+    pub fn sample(&self, field: &[f32], dims: [usize; 3], stagger: Stagger, point: Vec3) -> f32 {
+        self.stencil(point, dims, stagger).apply(field)
+    }
+
+    /// The velocity of a staggered field `(u, v, w)` at `point`, m/s.
+    pub fn sample_velocity(&self, velocity: &[Vec<f32>; 3], point: Vec3) -> Vec3 {
+        Vec3::from(core::array::from_fn::<f32, 3, _>(|axis| {
+            self.sample(
+                &velocity[axis],
+                self.face_dims(axis),
+                Stagger::face(axis),
+                point,
+            )
+        }))
+    }
+}
+
+/// The lower sample and the fraction towards the next along one axis of `n` samples, for a
+/// coordinate `x` in samples; clamped to the samples, NaN to the first.
+#[inline(always)]
+fn axis_cell(x: f32, n: usize) -> (usize, f32) {
+    let top = (n - 1) as f32;
+    // `max` first: NaN becomes 0.
+    let x = x.max(0.0).min(top);
+    let i = (x as usize).min(n.saturating_sub(2));
+    (i, (x - i as f32).min(1.0))
+}
+
+/// Eight samples and their weights around a point: built once, applied to any field with
+/// the same layout.
+#[derive(Clone, Copy, Debug)]
+pub struct Stencil {
+    base: usize,
+    step: [usize; 3],
+    frac: [f32; 3],
+}
+
+impl Stencil {
+    /// The interpolated value of `field` at the stencil's point.
+    #[inline(always)]
+    pub fn apply(&self, field: &[f32]) -> f32 {
+        let [dx, dy, dz] = self.step;
+        let [fx, fy, fz] = self.frac;
+        let cube = &field[self.base..=self.base + dx + dy + dz];
+        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+        let c00 = lerp(cube[0], cube[dx], fx);
+        let c10 = lerp(cube[dy], cube[dy + dx], fx);
+        let c01 = lerp(cube[dz], cube[dz + dx], fx);
+        let c11 = lerp(cube[dz + dy], cube[dz + dy + dx], fx);
+        lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz)
+    }
+
+    /// Adds `amount` to `field` spread over the stencil's samples by their trilinear
+    /// weights (the transpose of [`Stencil::apply`]: the weights sum to one).
+    #[inline]
+    pub fn splat(&self, field: &mut [f32], amount: f32) {
+        let [dx, dy, dz] = self.step;
+        let [fx, fy, fz] = self.frac;
+        for (oz, wz) in [(0, 1.0 - fz), (dz, fz)] {
+            for (oy, wy) in [(0, 1.0 - fy), (dy, fy)] {
+                for (ox, wx) in [(0, 1.0 - fx), (dx, fx)] {
+                    field[self.base + oz + oy + ox] += amount * wx * wy * wz;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shape() -> GridShape {
+        GridShape {
+            dims: [4, 5, 6],
+            cell: 0.5,
+            origin: Vec3::new(-1.0, 0.0, 2.0),
+        }
+    }
+
+    #[test]
+    fn trilinear_sampling_reproduces_a_linear_field_exactly() {
+        let shape = shape();
+        let dims = shape.dims;
+        let linear = |p: Vec3| 2.0 * p.x - 3.0 * p.y + 0.5 * p.z + 1.0;
+        let mut field = vec![0.0; shape.cells()];
+        for k in 0..dims[2] {
+            for j in 0..dims[1] {
+                for i in 0..dims[0] {
+                    field[shape.index(i, j, k)] = linear(shape.position(i, j, k, Stagger::CENTRE));
+                }
+            }
+        }
+        for point in [
+            Vec3::new(-0.3, 1.1, 3.3),
+            Vec3::new(0.6, 2.2, 4.1),
+            shape.position(1, 2, 3, Stagger::CENTRE),
+        ] {
+            let value = shape.sample(&field, dims, Stagger::CENTRE, point);
+            assert!(
+                (value - linear(point)).abs() < 1e-4,
+                "{value} vs {}",
+                linear(point)
+            );
+        }
+    }
+
+    #[test]
+    fn splat_puts_the_whole_amount_down() {
+        let shape = shape();
+        let mut field = vec![0.0; shape.cells()];
+        let stencil = shape.stencil(Vec3::new(0.1, 1.3, 3.7), shape.dims, Stagger::CENTRE);
+        stencil.splat(&mut field, 2.5);
+        let total: f32 = field.iter().sum();
+        assert!((total - 2.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn points_outside_take_the_nearest_value_and_never_panic() {
+        let shape = shape();
+        let field: Vec<f32> = (0..shape.cells()).map(|i| i as f32).collect();
+        let far = shape.sample(&field, shape.dims, Stagger::CENTRE, Vec3::splat(1e9));
+        assert_eq!(far, (shape.cells() - 1) as f32);
+        let nan = shape.sample(&field, shape.dims, Stagger::CENTRE, Vec3::NAN);
+        assert_eq!(nan, 0.0);
+    }
+}

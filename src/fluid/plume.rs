@@ -1,0 +1,472 @@
+//! [`Plume`]: the air around a fire on a staggered grid, stepped as Stam's stable fluids:
+//! advect, add forces, project.
+
+use super::advect::{Advection, centre_velocity};
+use super::forces::{VorticityScratch, add_buoyancy, add_vorticity_confinement, for_each_face};
+use super::grid::{GridShape, Stagger};
+use super::pressure::{PressureSolver, SolveReport, Wall};
+use super::settings::{AIR_HEAT_CAPACITY, PlumeSettings, PlumeSettingsError};
+use bevy::tasks::TaskPool;
+use glam::Vec3;
+
+/// What the latest [`Plume::step`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PlumeReport {
+    /// Whether the step ran (false while the air is still and cold).
+    pub stepped: bool,
+    /// The pressure solve.
+    pub solve: SolveReport,
+    /// Largest divergence left in an air cell, 1/s.
+    pub max_divergence: f32,
+    /// Largest excess temperature, K.
+    pub max_temperature: f32,
+    /// Fastest face velocity, m/s.
+    pub max_speed: f32,
+}
+
+/// The air of a fire: velocity on cell faces (m/s, relative to the uniform wind), excess
+/// temperature over ambient (K) and smoke density at cell centres, in a box of
+/// [`PlumeSettings::resolution`] cells.
+#[derive(Clone, Debug)]
+pub struct Plume {
+    settings: PlumeSettings,
+    shape: GridShape,
+    velocity: [Vec<f32>; 3],
+    temperature: Vec<f32>,
+    smoke: Vec<f32>,
+    solid: Vec<bool>,
+    solver: PressureSolver,
+    // Scratch, allocated once.
+    next_velocity: [Vec<f32>; 3],
+    next_temperature: Vec<f32>,
+    next_smoke: Vec<f32>,
+    centre: [Vec<f32>; 3],
+    vorticity: VorticityScratch,
+    rhs: Vec<f32>,
+    /// Whether heat, smoke or a push came in since the last step.
+    fed: bool,
+    /// Whether the air has settled to still, ambient and clear (steps do nothing).
+    quiet: bool,
+    report: PlumeReport,
+}
+
+/// Below these the air is still: excess temperature, K; speed, m/s; smoke density.
+const QUIET_TEMPERATURE: f32 = 0.5;
+const QUIET_SPEED: f32 = 0.05;
+const QUIET_SMOKE: f32 = 1e-3;
+
+impl Plume {
+    /// Still, ambient air in a box whose minimum corner is at `origin` (m). Every buffer is
+    /// allocated here, none in [`Plume::step`].
+    pub fn new(settings: PlumeSettings, origin: Vec3) -> Result<Self, PlumeSettingsError> {
+        settings.validate()?;
+        if !origin.is_finite() {
+            return Err(PlumeSettingsError(format!("origin {origin} is not finite")));
+        }
+        let shape = GridShape {
+            dims: settings.resolution,
+            cell: settings.cell_size,
+            origin,
+        };
+        let n = shape.cells();
+        let faces = || core::array::from_fn(|axis| vec![0.0; shape.faces(axis)]);
+        let solid = vec![false; n];
+        Ok(Self {
+            solver: PressureSolver::new(&shape, &solid, settings.walls),
+            settings,
+            shape,
+            velocity: faces(),
+            temperature: vec![0.0; n],
+            smoke: vec![0.0; n],
+            solid,
+            next_velocity: faces(),
+            next_temperature: vec![0.0; n],
+            next_smoke: vec![0.0; n],
+            centre: core::array::from_fn(|_| vec![0.0; n]),
+            vorticity: VorticityScratch::new(n),
+            rhs: vec![0.0; n],
+            fed: false,
+            quiet: true,
+            report: PlumeReport::default(),
+        })
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> &PlumeSettings {
+        &self.settings
+    }
+
+    /// The grid: cells, cell size and where the box is.
+    pub fn shape(&self) -> &GridShape {
+        &self.shape
+    }
+
+    /// What the latest step did.
+    pub fn report(&self) -> &PlumeReport {
+        &self.report
+    }
+
+    /// Whether the air is still, ambient and clear, so steps cost nothing.
+    pub fn is_quiet(&self) -> bool {
+        self.quiet && !self.fed
+    }
+
+    /// Staggered velocity components (x faces, y faces, z faces), m/s.
+    pub fn velocity(&self) -> &[Vec<f32>; 3] {
+        &self.velocity
+    }
+
+    /// Mutable velocity faces (for tests and scripted gusts); wakes the air.
+    pub fn velocity_mut(&mut self) -> &mut [Vec<f32>; 3] {
+        self.fed = true;
+        &mut self.velocity
+    }
+
+    /// Excess temperature over ambient per cell, K.
+    pub fn temperature(&self) -> &[f32] {
+        &self.temperature
+    }
+
+    /// Mutable excess temperatures (for tests and scripted sources); wakes the air.
+    pub fn temperature_mut(&mut self) -> &mut [f32] {
+        self.fed = true;
+        &mut self.temperature
+    }
+
+    /// Smoke density per cell (1 is thick smoke).
+    pub fn smoke(&self) -> &[f32] {
+        &self.smoke
+    }
+
+    /// Mutable smoke densities; wakes the air.
+    pub fn smoke_mut(&mut self) -> &mut [f32] {
+        self.fed = true;
+        &mut self.smoke
+    }
+
+    /// Which cells are solid.
+    pub fn solid(&self) -> &[bool] {
+        &self.solid
+    }
+
+    /// Marks the cells whose centre `is_solid` says is inside something solid; the pressure
+    /// solver is rebuilt only when the set changes. Solid cells hold no heat or smoke.
+    pub fn set_solids(&mut self, is_solid: impl Fn(Vec3) -> bool) {
+        let mut changed = false;
+        let [nx, ny, nz] = self.shape.dims;
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let c = self.shape.index(i, j, k);
+                    let solid = is_solid(self.shape.position(i, j, k, Stagger::CENTRE));
+                    changed |= solid != self.solid[c];
+                    self.solid[c] = solid;
+                }
+            }
+        }
+        if changed {
+            self.solver = PressureSolver::new(&self.shape, &self.solid, self.settings.walls);
+            for (c, solid) in self.solid.iter().enumerate() {
+                if *solid {
+                    self.temperature[c] = 0.0;
+                    self.smoke[c] = 0.0;
+                }
+            }
+        }
+    }
+
+    /// Moves the box so its minimum corner is as near `origin` as a whole number of cells
+    /// allows, carrying the air along: cells that stay inside keep their state, cells that
+    /// enter are still and ambient. Returns whether it moved.
+    pub fn move_towards(&mut self, origin: Vec3) -> bool {
+        if !origin.is_finite() {
+            return false;
+        }
+        let shift = ((origin - self.shape.origin) / self.shape.cell).round();
+        if shift == Vec3::ZERO {
+            return false;
+        }
+        let shift = [shift.x as i64, shift.y as i64, shift.z as i64];
+        let dims = self.shape.dims;
+        let moved = |field: &mut Vec<f32>, scratch: &mut Vec<f32>, dims: [usize; 3]| {
+            scratch.fill(0.0);
+            for k in 0..dims[2] {
+                for j in 0..dims[1] {
+                    for i in 0..dims[0] {
+                        let from = [
+                            i as i64 + shift[0],
+                            j as i64 + shift[1],
+                            k as i64 + shift[2],
+                        ];
+                        if (0..3).all(|a| from[a] >= 0 && from[a] < dims[a] as i64) {
+                            let f = from[0] as usize
+                                + dims[0] * (from[1] as usize + dims[1] * from[2] as usize);
+                            scratch[i + dims[0] * (j + dims[1] * k)] = field[f];
+                        }
+                    }
+                }
+            }
+            core::mem::swap(field, scratch);
+        };
+        moved(&mut self.temperature, &mut self.next_temperature, dims);
+        moved(&mut self.smoke, &mut self.next_smoke, dims);
+        for axis in 0..3 {
+            let face_dims = self.shape.face_dims(axis);
+            moved(
+                &mut self.velocity[axis],
+                &mut self.next_velocity[axis],
+                face_dims,
+            );
+        }
+        self.solver.solution.fill(0.0);
+        self.shape.origin +=
+            Vec3::new(shift[0] as f32, shift[1] as f32, shift[2] as f32) * self.shape.cell;
+        true
+    }
+
+    /// Adds `energy` joules of heat to the air at `point` (spread over the eight nearest
+    /// cells), raising their temperature by `energy / (ρ c_p V)`. Heat outside the box, or
+    /// not finite, is ignored.
+    pub fn add_heat(&mut self, point: Vec3, energy: f32) {
+        if !(energy.is_finite() && point.is_finite() && self.shape.contains(point)) {
+            return;
+        }
+        let volume = self.shape.cell.powi(3);
+        let rise = energy / (AIR_HEAT_CAPACITY * volume);
+        self.shape
+            .stencil(point, self.shape.dims, Stagger::CENTRE)
+            .splat(&mut self.temperature, rise);
+        self.fed = true;
+    }
+
+    /// Adds `amount` of smoke (density × m³) at `point`, spread over the nearest cells.
+    pub fn add_smoke(&mut self, point: Vec3, amount: f32) {
+        if !(amount.is_finite() && point.is_finite() && self.shape.contains(point)) {
+            return;
+        }
+        let volume = self.shape.cell.powi(3);
+        self.shape
+            .stencil(point, self.shape.dims, Stagger::CENTRE)
+            .splat(&mut self.smoke, amount / volume);
+        self.fed = true;
+    }
+
+    /// Air velocity at `point` relative to the wind, m/s; zero outside the box.
+    pub fn velocity_at(&self, point: Vec3) -> Vec3 {
+        if !self.shape.contains(point) || self.is_quiet() {
+            return Vec3::ZERO;
+        }
+        self.shape.sample_velocity(&self.velocity, point)
+    }
+
+    /// Excess temperature of the air at `point` over ambient, K; zero outside the box.
+    pub fn temperature_at(&self, point: Vec3) -> f32 {
+        if !self.shape.contains(point) || self.is_quiet() {
+            return 0.0;
+        }
+        self.shape
+            .sample(&self.temperature, self.shape.dims, Stagger::CENTRE, point)
+    }
+
+    /// Smoke density at `point`; zero outside the box.
+    pub fn smoke_at(&self, point: Vec3) -> f32 {
+        if !self.shape.contains(point) || self.is_quiet() {
+            return 0.0;
+        }
+        self.shape
+            .sample(&self.smoke, self.shape.dims, Stagger::CENTRE, point)
+    }
+
+    /// Total smoke in the box, density × m³.
+    pub fn total_smoke(&self) -> f64 {
+        let volume = f64::from(self.shape.cell).powi(3);
+        self.smoke.iter().map(|s| f64::from(*s)).sum::<f64>() * volume
+    }
+
+    /// Advances the air `dt` seconds in a uniform `wind` (m/s) with `up` the direction hot
+    /// air rises: advection by the current (divergence-free) velocity, cooling, buoyancy,
+    /// vorticity confinement, then the pressure projection that makes the velocity
+    /// divergence-free again. Does nothing while the air is quiet and nothing fed it.
+    pub fn step(&mut self, dt: f32, wind: Vec3, up: Vec3) -> PlumeReport {
+        self.step_on(dt, wind, up, None)
+    }
+
+    /// [`Plume::step`] with the advection split over `pool`'s threads (feature `parallel`);
+    /// the result is the same on any number of threads.
+    pub fn step_on(
+        &mut self,
+        dt: f32,
+        wind: Vec3,
+        up: Vec3,
+        pool: Option<&TaskPool>,
+    ) -> PlumeReport {
+        if !(dt.is_finite() && dt > 0.0 && wind.is_finite()) || self.is_quiet() {
+            self.report = PlumeReport::default();
+            return self.report;
+        }
+        let up = up.normalize_or(Vec3::Y);
+        let shape = self.shape;
+        centre_velocity(&shape, &self.velocity, &mut self.centre);
+        let advection = Advection {
+            shape: &shape,
+            centre: &self.centre,
+            wind,
+            walls: &self.settings.walls,
+            dt,
+        };
+        advection.scalars(
+            &self.solid,
+            [&self.temperature, &self.smoke],
+            [&mut self.next_temperature, &mut self.next_smoke],
+            pool,
+        );
+        core::mem::swap(&mut self.temperature, &mut self.next_temperature);
+        core::mem::swap(&mut self.smoke, &mut self.next_smoke);
+        advection.velocity(&self.velocity, &mut self.next_velocity, pool);
+        core::mem::swap(&mut self.velocity, &mut self.next_velocity);
+
+        let damped = (-self.settings.damping * dt).exp();
+        for u in self.velocity.iter_mut().flatten() {
+            *u *= damped;
+        }
+        let cooled = (-self.settings.cooling * dt).exp();
+        let cleared = (-self.settings.smoke_decay * dt).exp();
+        let hottest = self.settings.max_temperature;
+        for t in &mut self.temperature {
+            *t = (*t * cooled).clamp(-hottest, hottest);
+        }
+        for s in &mut self.smoke {
+            *s = (*s * cleared).max(0.0);
+        }
+        add_buoyancy(
+            &shape,
+            [&self.temperature, &self.smoke],
+            up * dt,
+            [self.settings.buoyancy, self.settings.smoke_weight],
+            &mut self.velocity,
+        );
+        centre_velocity(&shape, &self.velocity, &mut self.centre);
+        add_vorticity_confinement(
+            &shape,
+            &self.centre,
+            &self.temperature,
+            self.settings.vorticity,
+            dt,
+            &mut self.vorticity,
+            &mut self.velocity,
+        );
+        let solve = self.project();
+        self.fed = false;
+        let max_temperature = self.temperature.iter().fold(0.0f32, |m, t| m.max(t.abs()));
+        let max_speed = self
+            .velocity
+            .iter()
+            .flatten()
+            .fold(0.0f32, |m, u| m.max(u.abs()));
+        let max_smoke = self.smoke.iter().fold(0.0f32, |m, s| m.max(*s));
+        self.quiet = max_temperature < QUIET_TEMPERATURE
+            && max_speed < QUIET_SPEED
+            && max_smoke < QUIET_SMOKE;
+        if self.quiet {
+            self.temperature.fill(0.0);
+            self.smoke.fill(0.0);
+            self.velocity.iter_mut().for_each(|v| v.fill(0.0));
+            self.solver.solution.fill(0.0);
+        }
+        self.report = PlumeReport {
+            stepped: true,
+            solve,
+            max_divergence: self.divergence_left(),
+            max_temperature,
+            max_speed,
+        };
+        self.report
+    }
+
+    /// Zeroes the faces no air flows through (those touching a solid cell or a closed wall),
+    /// solves for the pressure that removes the divergence, and subtracts its gradient.
+    fn project(&mut self) -> SolveReport {
+        let shape = self.shape;
+        let walls = self.settings.walls.0;
+        let solid = &self.solid;
+        for (axis, faces) in self.velocity.iter_mut().enumerate() {
+            for_each_face(&shape, axis, |face, cells| {
+                let blocked = match cells {
+                    (Some(a), Some(b)) => solid[a] || solid[b],
+                    (None, Some(a)) => solid[a] || walls[axis][0] == Wall::Closed,
+                    (Some(a), None) => solid[a] || walls[axis][1] == Wall::Closed,
+                    (None, None) => true,
+                };
+                if blocked {
+                    faces[face] = 0.0;
+                }
+            });
+        }
+        // b = −h² ∇·u = −h Σ (outflow − inflow)
+        divergence(&shape, &self.velocity, &mut self.rhs);
+        let h = shape.cell;
+        for (b, s) in self.rhs.iter_mut().zip(solid) {
+            *b = if *s { 0.0 } else { -*b * h * h };
+        }
+        let report = self.solver.solve(
+            &self.rhs,
+            self.settings.tolerance * h * h,
+            self.settings.max_iterations,
+        );
+        let phi = &self.solver.solution;
+        for (axis, faces) in self.velocity.iter_mut().enumerate() {
+            for_each_face(&shape, axis, |face, cells| {
+                let (below, above) = match cells {
+                    (Some(a), Some(b)) if !solid[a] && !solid[b] => (phi[a], phi[b]),
+                    (None, Some(a)) if !solid[a] && walls[axis][0] == Wall::Open => (0.0, phi[a]),
+                    (Some(a), None) if !solid[a] && walls[axis][1] == Wall::Open => (phi[a], 0.0),
+                    _ => return,
+                };
+                faces[face] -= (above - below) / h;
+            });
+        }
+        SolveReport {
+            iterations: report.iterations,
+            residual: report.residual / (h * h),
+        }
+    }
+
+    /// Largest `|∇·u|` over the air cells, 1/s (into the scratch right-hand side).
+    fn divergence_left(&mut self) -> f32 {
+        divergence(&self.shape, &self.velocity, &mut self.rhs);
+        self.rhs
+            .iter()
+            .zip(&self.solid)
+            .filter(|(_, s)| !**s)
+            .fold(0.0f32, |m, (d, _)| m.max(d.abs()))
+    }
+
+    /// Largest `|∇·u|` over the air cells now, 1/s. Allocates a scratch field: for tests
+    /// and tools, not for every frame ([`PlumeReport::max_divergence`] has it after a step).
+    pub fn max_divergence(&self) -> f32 {
+        let mut div = vec![0.0; self.shape.cells()];
+        divergence(&self.shape, &self.velocity, &mut div);
+        div.iter()
+            .zip(&self.solid)
+            .filter(|(_, s)| !**s)
+            .fold(0.0f32, |m, (d, _)| m.max(d.abs()))
+    }
+}
+
+/// `∇·u` per cell, 1/s: the net outflow through its six faces over its size.
+fn divergence(shape: &GridShape, velocity: &[Vec<f32>; 3], out: &mut [f32]) {
+    let [nx, ny, nz] = shape.dims;
+    let [u, v, w] = velocity;
+    let (ux, vx, vy, wx, wy) = (nx + 1, nx, ny + 1, nx, ny);
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let fu = i + ux * (j + ny * k);
+                let fv = i + vx * (j + vy * k);
+                let fw = i + wx * (j + wy * k);
+                out[shape.index(i, j, k)] =
+                    (u[fu + 1] - u[fu] + v[fv + vx] - v[fv] + w[fw + wx * wy] - w[fw]) / shape.cell;
+            }
+        }
+    }
+}
