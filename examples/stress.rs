@@ -52,13 +52,19 @@ fn ms(duration: Duration) -> f64 {
     duration.as_secs_f64() * 1e3
 }
 
-fn run(size: u32, integrator: Integrator, frames: u32, pool: &TaskPool) -> Run {
-    let mut sim = ClothSim::new(
+/// A cloth `size` particles square, 1.5 m wide, pinned at every 4th particle of its top edge
+/// at 2 m.
+fn hanging(size: u32, material: BurnMaterial) -> ClothSim {
+    ClothSim::new(
         &ClothBuilder::grid(size, size, 1.5 / size as f32).pin_top_every(4),
-        BurnMaterial::COTTON,
+        material,
         Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
     )
-    .expect("valid cloth");
+    .expect("valid cloth")
+}
+
+fn run(size: u32, integrator: Integrator, frames: u32, pool: &TaskPool) -> Run {
+    let mut sim = hanging(size, BurnMaterial::COTTON);
     sim.update_settings(|s| s.solver.integrator = integrator)
         .expect("valid integrator");
     // Hang for 2 s, then measure the stretch and set it alight.
@@ -243,12 +249,7 @@ fn many_cloths_table() {
 fn smoke_run(capacity: usize, rate_scale: f32) -> (f64, f64, f64) {
     use bevy_burning_cloth::smoke::{Air, BurningCloth, SmokeSettings, SmokeSim};
     let size = 64;
-    let mut cloth = ClothSim::new(
-        &ClothBuilder::grid(size, size, 1.5 / size as f32).pin_top_every(4),
-        BurnMaterial::PAPER,
-        Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
-    )
-    .expect("valid cloth");
+    let mut cloth = hanging(size, BurnMaterial::PAPER);
     let grid = cloth.topology.grid.unwrap();
     for (column, row) in [(8, 56), (24, 40), (32, 60), (40, 20), (56, 50)] {
         cloth.ignite(grid.index(column, row)).unwrap();
@@ -311,12 +312,7 @@ fn plume_run(resolution: usize, pool: &TaskPool) -> (f64, f64, f64) {
     use bevy_burning_cloth::fluid::{Plume, PlumeSettings, blow_and_heat, feed_plume};
     use bevy_burning_cloth::smoke::BurningCloth;
     let size = 64;
-    let mut cloth = ClothSim::new(
-        &ClothBuilder::grid(size, size, 1.5 / size as f32).pin_top_every(4),
-        BurnMaterial::COTTON,
-        Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
-    )
-    .expect("valid cloth");
+    let mut cloth = hanging(size, BurnMaterial::COTTON);
     let grid = cloth.topology.grid.unwrap();
     cloth.ignite(grid.index(size / 2, size - 1)).unwrap();
     // The same box whatever the resolution: 2.56 m a side.

@@ -2,10 +2,11 @@
 //! at it came from, `x − u dt`, by trilinear interpolation. Unconditionally stable for any
 //! step; it smooths a little (numerical diffusion) and does not conserve exactly.
 //!
-//! Traces go back along a midpoint (RK2) path. Air arriving through an open wall is ambient: it brings no excess temperature, no smoke
-//! and no velocity beyond the uniform wind.
+//! Scalars trace back along a midpoint (RK2) path, the velocity along one Euler step. Air
+//! arriving through an open wall is ambient: it brings no excess temperature, no smoke and no
+//! velocity beyond the uniform wind.
 
-use super::grid::{GridShape, Stagger};
+use super::grid::{GridShape, Stagger, face_mean};
 use super::pressure::{Wall, Walls};
 use crate::sim::parallel::for_each_part;
 use bevy::tasks::TaskPool;
@@ -161,18 +162,7 @@ impl Advection<'_> {
                         for i in 0..dims[0] {
                             let value = &mut out[local];
                             local += 1;
-                            let at = [i, j, k];
-                            let above = (at[axis] < shape.dims[axis]).then(|| shape.index(i, j, k));
-                            let below = (at[axis] > 0).then(|| {
-                                let mut b = at;
-                                b[axis] -= 1;
-                                shape.index(b[0], b[1], b[2])
-                            });
-                            let u = match (below, above) {
-                                (Some(b), Some(a)) => 0.5 * (cell_velocity(b) + cell_velocity(a)),
-                                (Some(c), None) | (None, Some(c)) => cell_velocity(c),
-                                (None, None) => Vec3::ZERO,
-                            };
+                            let u = face_mean(shape.face_cells(axis, [i, j, k]), cell_velocity);
                             let here = shape.position(i, j, k, stagger);
                             let departure = here - self.dt * (u + self.wind);
                             *value = if arrives_from_inside(shape, self.walls, departure) {

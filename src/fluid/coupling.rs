@@ -76,7 +76,7 @@ pub fn blow_and_heat(
         return result;
     }
     let settings = plume.settings();
-    let drag_per_mass = material.air_drag / material.areal_density;
+    let drag_per_mass = material.drag_per_mass();
     let rate =
         settings.cloth_heat_transfer / (material.areal_density * settings.cloth_specific_heat);
     let warmed = 1.0 - (-rate * dt).exp();

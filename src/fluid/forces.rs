@@ -2,7 +2,7 @@
 //! confinement (Fedkiw, Stam & Jensen 2001), which puts back the swirls that semi-Lagrangian
 //! advection smooths away.
 
-use super::grid::GridShape;
+use super::grid::{GridShape, face_mean};
 use glam::Vec3;
 
 /// Adds `impulse (β T − κ s)` to every face, with `T` (excess temperature, K) and `s`
@@ -23,12 +23,7 @@ pub fn add_buoyancy(
         }
         for_each_face(shape, axis, |face, cells| {
             let lift = |c: usize| buoyancy * temperature[c] - smoke_weight * smoke[c];
-            let force = match cells {
-                (Some(a), Some(b)) => 0.5 * (lift(a) + lift(b)),
-                (Some(a), None) | (None, Some(a)) => lift(a),
-                (None, None) => 0.0,
-            };
-            faces[face] += scale * force;
+            faces[face] += scale * face_mean(cells, lift);
         });
     }
 }
@@ -129,12 +124,7 @@ pub fn add_vorticity_confinement(
     for (axis, faces) in velocity.iter_mut().enumerate() {
         let f = &force[axis];
         for_each_face(shape, axis, |face, cells| {
-            faces[face] += dt
-                * match cells {
-                    (Some(a), Some(b)) => 0.5 * (f[a] + f[b]),
-                    (Some(a), None) | (None, Some(a)) => f[a],
-                    (None, None) => 0.0,
-                };
+            faces[face] += dt * face_mean(cells, |c| f[c]);
         });
     }
 }
@@ -165,14 +155,7 @@ pub fn for_each_face(
         for j in 0..dims[1] {
             for i in 0..dims[0] {
                 let face = i + dims[0] * (j + dims[1] * k);
-                let at = [i, j, k];
-                let below = (at[axis] > 0).then(|| {
-                    let mut b = at;
-                    b[axis] -= 1;
-                    shape.index(b[0], b[1], b[2])
-                });
-                let above = (at[axis] < shape.dims[axis]).then(|| shape.index(i, j, k));
-                visit(face, (below, above));
+                visit(face, shape.face_cells(axis, [i, j, k]));
             }
         }
     }

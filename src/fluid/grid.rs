@@ -61,6 +61,19 @@ impl GridShape {
         i + self.dims[0] * (j + self.dims[1] * k)
     }
 
+    /// The two cells either side of face `at` normal to `axis`: (below, above); a face on
+    /// the box's side has one of them missing.
+    #[inline]
+    pub fn face_cells(&self, axis: usize, at: [usize; 3]) -> (Option<usize>, Option<usize>) {
+        let below = (at[axis] > 0).then(|| {
+            let mut b = at;
+            b[axis] -= 1;
+            self.index(b[0], b[1], b[2])
+        });
+        let above = (at[axis] < self.dims[axis]).then(|| self.index(at[0], at[1], at[2]));
+        (below, above)
+    }
+
     /// World size of the box, m.
     pub fn size(&self) -> Vec3 {
         Vec3::new(
@@ -119,6 +132,20 @@ impl GridShape {
                 point,
             )
         }))
+    }
+}
+
+/// The mean of `value` over a face's cells (from [`GridShape::face_cells`]): both when it
+/// has two, the one on a side of the box, zero for none.
+#[inline]
+pub fn face_mean<T>(cells: (Option<usize>, Option<usize>), value: impl Fn(usize) -> T) -> T
+where
+    T: Default + core::ops::Add<Output = T> + core::ops::Mul<f32, Output = T>,
+{
+    match cells {
+        (Some(a), Some(b)) => (value(a) + value(b)) * 0.5,
+        (Some(c), None) | (None, Some(c)) => value(c),
+        (None, None) => T::default(),
     }
 }
 

@@ -4,7 +4,7 @@ use super::coupling::{blow_and_heat, feed_plume};
 use super::plume::{Plume, PlumeReport};
 use super::settings::{PlumeSettings, PlumeSettingsError};
 use crate::plugin::{
-    BurningClothSystems, ClothColliders, ClothEnvironment, ClothInUse, ClothParticles,
+    BurningClothSystems, ClothColliders, ClothEnvironment, ClothInUse, ClothParticles, ClothStatus,
     ClothTopology, FireSpread,
 };
 use crate::sim::WorldCollider;
@@ -156,13 +156,21 @@ fn step_plume(
     colliders: Res<ClothColliders>,
     mut fire: ResMut<FirePlume>,
     mut diagnostics: Diagnostics,
-    cloths: Query<(&ClothParticles, &ClothInUse, &ClothTopology)>,
+    cloths: Query<(&ClothParticles, &ClothInUse, &ClothTopology, &ClothStatus)>,
 ) {
     let started = Instant::now();
     let dt = time.delta_secs();
+    // Only cloths with something on fire feed the plume or place it: no particle loop while
+    // nothing burns.
+    let burning_cloths = || {
+        cloths
+            .iter()
+            .filter(|(.., status)| status.ignited > 0)
+            .map(|(particles, in_use, topology, _)| (particles, in_use, topology))
+    };
     // The burning region: the mean of the burning particles, weighted by intensity.
     let (mut sum, mut weight) = (Vec3::ZERO, 0.0f32);
-    for (particles, in_use, topology) in &cloths {
+    for (particles, in_use, topology) in burning_cloths() {
         let cloth = BurningCloth::new(particles, in_use.material(), topology, &[]);
         for i in 0..particles.len() {
             let w = cloth.intensity(i);
@@ -207,17 +215,13 @@ fn step_plume(
         let solids = &fire.colliders;
         plume.set_solids(|p| solids.iter().any(|c| c.distance(p).0 < 0.0));
     }
-    for (particles, in_use, topology) in &cloths {
+    for (particles, in_use, topology) in burning_cloths() {
         let cloth = BurningCloth::new(particles, in_use.material(), topology, &[]);
         feed_plume(plume, &cloth, in_use.material(), &particles.mass, dt);
     }
-    let (wind, up) = if environment.validate().is_ok() {
-        (environment.wind, environment.up)
-    } else {
-        (Vec3::ZERO, Vec3::Y)
-    };
+    let air = crate::smoke::air(&environment);
     let pool = bevy::tasks::ComputeTaskPool::try_get().map(|p| &**p);
-    let report = plume.step_on(dt, wind, up, pool);
+    let report = plume.step_on(dt, air.wind, air.up, pool);
     fire.last_step = started.elapsed();
     let milliseconds = fire.last_step.as_secs_f64() * 1e3;
     diagnostics.add_measurement(&PlumeDiagnostics::STEP, || milliseconds);

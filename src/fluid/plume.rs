@@ -434,11 +434,7 @@ impl Plume {
     /// Largest `|∇·u|` over the air cells, 1/s (into the scratch right-hand side).
     fn divergence_left(&mut self) -> f32 {
         divergence(&self.shape, &self.velocity, &mut self.rhs);
-        self.rhs
-            .iter()
-            .zip(&self.solid)
-            .filter(|(_, s)| !**s)
-            .fold(0.0f32, |m, (d, _)| m.max(d.abs()))
+        largest_over_air(&self.rhs, &self.solid)
     }
 
     /// Largest `|∇·u|` over the air cells now, 1/s. Allocates a scratch field: for tests
@@ -446,11 +442,17 @@ impl Plume {
     pub fn max_divergence(&self) -> f32 {
         let mut div = vec![0.0; self.shape.cells()];
         divergence(&self.shape, &self.velocity, &mut div);
-        div.iter()
-            .zip(&self.solid)
-            .filter(|(_, s)| !**s)
-            .fold(0.0f32, |m, (d, _)| m.max(d.abs()))
+        largest_over_air(&div, &self.solid)
     }
+}
+
+/// The largest `|value|` over the cells that are not solid.
+fn largest_over_air(values: &[f32], solid: &[bool]) -> f32 {
+    values
+        .iter()
+        .zip(solid)
+        .filter(|(_, s)| !**s)
+        .fold(0.0f32, |m, (d, _)| m.max(d.abs()))
 }
 
 /// `∇·u` per cell, 1/s: the net outflow through its six faces over its size.

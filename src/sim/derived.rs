@@ -38,7 +38,7 @@ pub fn force_params(
     ForceParams {
         gravity: environment.gravity,
         wind: environment.wind,
-        drag_per_mass: material.air_drag / material.areal_density,
+        drag_per_mass: material.drag_per_mass(),
         coefficients: SpringCoefficients::from_material(material, topology.particle_mass),
     }
 }

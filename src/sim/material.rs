@@ -203,6 +203,12 @@ impl BurnMaterial {
         }
     }
 
+    /// Air drag per unit mass, 1/s: the drag per area over the mass per area, so
+    /// `f = −drag_per_mass × m × (v − wind)` for a particle of mass `m`.
+    pub fn drag_per_mass(&self) -> f32 {
+        self.air_drag / self.areal_density
+    }
+
     /// Checks every field for a usable value.
     ///
     /// Rejects NaN and infinity everywhere, non-positive density, negative stiffness,

@@ -28,6 +28,8 @@ pub mod settings;
 pub mod turbulence;
 
 pub use emitter::{Air, BurningCloth, SmokeCounts, SmokeSim};
+#[cfg(feature = "fluid")]
+pub(crate) use plugin::air;
 pub use plugin::{SmokeEmitter, SmokePlugin, SmokeSystems};
 pub use pool::{NewParticle, SmokeKind, SmokePool};
 pub use settings::{KindSettings, MAX_SMOKE_CAPACITY, SmokeSettings, SmokeSettingsError};

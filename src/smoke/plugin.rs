@@ -110,8 +110,8 @@ impl Plugin for SmokePlugin {
     }
 }
 
-/// The air particles move in: the cloths' environment.
-fn air(environment: &ClothEnvironment) -> Air {
+/// The air particles move in: the cloths' environment (still air while it is invalid).
+pub(crate) fn air(environment: &ClothEnvironment) -> Air {
     if environment.validate().is_ok() {
         Air {
             wind: environment.wind,
