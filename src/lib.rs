@@ -96,7 +96,7 @@ use bevy::ecs::schedule::ScheduleLabel;
 /// | `ClothRenderPlugin` | `render` | a dynamic mesh per cloth, the burning-cloth material, click to ignite, `Flammable` meshes |
 /// | `SmokePlugin` | `smoke` | a flame, smoke and ember emitter per cloth |
 /// | `FluidPlugin` | `fluid` | the fire's air: a plume grid that carries the smoke, blows on and heats the cloth |
-/// | `SmokeRenderPlugin` | `smoke` + `render` | the particles as billboards |
+/// | `SmokeRenderPlugin` | `smoke` + `render` | the particles as billboards, flame tongues along the burning front |
 ///
 /// `.build().disable::<X>()` removes one. The simulation runs in `FixedUpdate`;
 /// [`BurningClothPlugins::new`] moves it (and the smoke) to another schedule.

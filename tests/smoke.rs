@@ -64,7 +64,7 @@ fn flames_and_smoke_are_born_only_at_ignited_unburnt_particles() {
     let settings = SmokeSettings::default();
     let mut sim = SmokeSim::new(settings).unwrap();
     let mut born = 0;
-    for _ in 0..20 {
+    for _ in 0..120 {
         let counts = sim.emit(&cloth, &Air::default(), DT);
         born += counts.born.iter().sum::<u32>();
     }

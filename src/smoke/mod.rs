@@ -6,8 +6,10 @@
 //! | [`settings`] | [`SmokeSettings`] and [`KindSettings`] for flames, smoke and embers |
 //! | [`turbulence`] | [`Turbulence`]: a divergence-free curl-noise air field |
 //! | [`emitter`] | [`SmokeSim`]: emission from a burning cloth, buoyant motion |
+//! | [`tongues`] | [`FlameTongue`]s along the burning front: root, lean, height, strength |
 //! | [`SmokePlugin`] | the [`SmokeEmitter`] component and its systems |
 //! | `render` (feature `render`) | camera-facing billboards, one mesh per blend mode |
+//! | `flame_render` (feature `render`) | flame tongues: one mesh, a noise flame shader |
 //!
 //! Flames and smoke are born at ignited, unburnt cloth particles, at a rate proportional to
 //! how hard each burns ([`BurningCloth::intensity`]) and the area it stands for; embers at
@@ -20,11 +22,16 @@
 //! so the same seed and burn give the same particles.
 
 pub mod emitter;
+#[cfg(feature = "render")]
+pub mod flame_render;
 mod plugin;
 pub mod pool;
 #[cfg(feature = "render")]
+mod quads;
+#[cfg(feature = "render")]
 pub mod render;
 pub mod settings;
+pub mod tongues;
 pub mod turbulence;
 
 pub use emitter::{Air, BurningCloth, SmokeCounts, SmokeSim};
@@ -33,4 +40,5 @@ pub(crate) use plugin::air;
 pub use plugin::{SmokeEmitter, SmokePlugin, SmokeSystems};
 pub use pool::{NewParticle, SmokeKind, SmokePool};
 pub use settings::{KindSettings, MAX_SMOKE_CAPACITY, SmokeSettings, SmokeSettingsError};
+pub use tongues::{FlameTongue, TongueSettings, gather_tongues};
 pub use turbulence::Turbulence;

@@ -4,16 +4,17 @@
 //! from buffers that only grow, so a steady burn allocates nothing.
 
 use super::plugin::SmokeEmitter;
+use super::quads::QuadMesh;
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::visibility::NoFrustumCulling;
 use bevy::image::Image;
 use bevy::light::NotShadowCaster;
-use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
 use bevy::pbr::PbrPlugin;
 use bevy::prelude::*;
 use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
 
-/// Draws smoke, flames and embers as camera-facing billboards. Added by
+/// Draws smoke, flames and embers as camera-facing billboards, and flame tongues along the
+/// burning front ([`FlameTongues`](super::flame_render::FlameTongues)). Added by
 /// [`SmokePlugin`](super::SmokePlugin) when the `render` feature is on; draws only when
 /// Bevy's PBR renderer is in the app.
 pub struct SmokeRenderPlugin;
@@ -23,6 +24,7 @@ impl Plugin for SmokeRenderPlugin {
         if !app.is_plugin_added::<PbrPlugin>() {
             return;
         }
+        super::flame_render::build(app);
         app.add_systems(
             PostUpdate,
             (spawn_billboards, draw_smoke)
@@ -40,50 +42,43 @@ pub struct SmokeBillboards {
     pub additive: bool,
 }
 
-/// Vertex buffers of one billboard mesh, reused frame to frame.
-#[derive(Default)]
-struct QuadBuffers {
-    positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    uvs: Vec<[f32; 2]>,
-    colours: Vec<[f32; 4]>,
-    indices: Vec<u32>,
-}
-
-impl QuadBuffers {
-    fn clear(&mut self) {
-        self.positions.clear();
-        self.normals.clear();
-        self.uvs.clear();
-        self.colours.clear();
-        self.indices.clear();
-    }
-
-    fn quad(&mut self, centre: Vec3, right: Vec3, up: Vec3, facing: Vec3, colour: [f32; 4]) {
-        let base = self.positions.len() as u32;
-        for (corner, uv) in [
-            (-right - up, [0.0, 1.0]),
-            (right - up, [1.0, 1.0]),
-            (right + up, [1.0, 0.0]),
-            (-right + up, [0.0, 0.0]),
-        ] {
-            self.positions.push((centre + corner).to_array());
-            self.normals.push(facing.to_array());
-            self.uvs.push(uv);
-            self.colours.push(colour);
-        }
-        self.indices
-            .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
-    }
+/// One camera-facing billboard of half-size vectors `right` and `up` around `centre`.
+fn billboard(
+    quads: &mut QuadMesh<[f32; 4]>,
+    centre: Vec3,
+    right: Vec3,
+    up: Vec3,
+    facing: Vec3,
+    colour: [f32; 4],
+) {
+    quads.push(
+        [
+            (centre - right - up, [0.0, 1.0]),
+            (centre + right - up, [1.0, 1.0]),
+            (centre + right + up, [1.0, 0.0]),
+            (centre - right + up, [0.0, 0.0]),
+        ],
+        facing,
+        colour,
+    );
 }
 
 /// Scratch of the drawing system.
-#[derive(Default)]
 struct SmokeDrawScratch {
-    additive: QuadBuffers,
-    blended: QuadBuffers,
+    additive: QuadMesh<[f32; 4]>,
+    blended: QuadMesh<[f32; 4]>,
     /// Smoke particles to sort: (distance along the view, emitter, slot).
     order: Vec<(f32, Entity, u32)>,
+}
+
+impl Default for SmokeDrawScratch {
+    fn default() -> Self {
+        Self {
+            additive: QuadMesh::new(Mesh::ATTRIBUTE_COLOR),
+            blended: QuadMesh::new(Mesh::ATTRIBUTE_COLOR),
+            order: Vec::new(),
+        }
+    }
 }
 
 /// A soft round sprite: white, alpha falling smoothly from the centre to the rim.
@@ -110,22 +105,6 @@ fn soft_sprite() -> Image {
         TextureFormat::Rgba8UnormSrgb,
         RenderAssetUsages::RENDER_WORLD,
     )
-}
-
-/// One degenerate, transparent quad: the renderer allocates no buffer for a mesh with no
-/// vertices and then logs an error when it is updated, so the mesh never starts empty.
-fn placeholder_quad_mesh() -> Mesh {
-    let mut buffers = QuadBuffers::default();
-    buffers.quad(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::Z, [0.0; 4]);
-    Mesh::new(
-        PrimitiveTopology::TriangleList,
-        RenderAssetUsages::default(),
-    )
-    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, buffers.positions)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, buffers.normals)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, buffers.uvs)
-    .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, buffers.colours)
-    .with_inserted_indices(Indices::U32(buffers.indices))
 }
 
 /// Where a billboard of half-size `size` at `position` is drawn: pulled towards the eye by
@@ -173,7 +152,7 @@ fn spawn_billboards(
                 "Smoke"
             }),
             SmokeBillboards { additive },
-            Mesh3d(meshes.add(placeholder_quad_mesh())),
+            Mesh3d(meshes.add(QuadMesh::<[f32; 4]>::placeholder(Mesh::ATTRIBUTE_COLOR))),
             MeshMaterial3d(material),
             Transform::IDENTITY,
             Visibility::Hidden,
@@ -210,7 +189,8 @@ fn draw_smoke(
             let position = sim.pool.position[slot];
             if kind.is_additive() {
                 let (size, colour) = sim.appearance(slot);
-                scratch.additive.quad(
+                billboard(
+                    &mut scratch.additive,
                     pulled_towards_eye(position, eye, size),
                     right * size,
                     up * size,
@@ -232,7 +212,8 @@ fn draw_smoke(
         };
         let sim = emitter.sim();
         let (size, colour) = sim.appearance(slot as usize);
-        scratch.blended.quad(
+        billboard(
+            &mut scratch.blended,
             pulled_towards_eye(sim.pool.position[slot as usize], eye, size),
             right * size,
             up * size,
@@ -247,46 +228,9 @@ fn draw_smoke(
         } else {
             &scratch.blended
         };
-        let wanted = if buffers.indices.is_empty() {
-            Visibility::Hidden
-        } else {
-            Visibility::Inherited
-        };
-        visibility.set_if_neq(wanted);
-        if buffers.indices.is_empty() {
-            continue;
-        }
-        let Some(mut mesh) = meshes.get_mut(&mesh3d.0) else {
-            continue;
-        };
-        write(&mut mesh, Mesh::ATTRIBUTE_POSITION, &buffers.positions);
-        write(&mut mesh, Mesh::ATTRIBUTE_NORMAL, &buffers.normals);
-        if let Some(VertexAttributeValues::Float32x2(values)) =
-            mesh.attribute_mut(Mesh::ATTRIBUTE_UV_0)
-        {
-            replace(values, &buffers.uvs);
-        }
-        if let Some(VertexAttributeValues::Float32x4(values)) =
-            mesh.attribute_mut(Mesh::ATTRIBUTE_COLOR)
-        {
-            replace(values, &buffers.colours);
-        }
-        if let Some(Indices::U32(indices)) = mesh.indices_mut() {
-            replace(indices, &buffers.indices);
-        }
+        visibility.set_if_neq(buffers.visibility());
+        buffers.write_to(&mesh3d.0, &mut meshes);
     }
-}
-
-fn write(mesh: &mut Mesh, attribute: bevy::mesh::MeshVertexAttribute, data: &[[f32; 3]]) {
-    if let Some(VertexAttributeValues::Float32x3(values)) = mesh.attribute_mut(attribute) {
-        replace(values, data);
-    }
-}
-
-/// Overwrites `target` with `source`; its memory only grows.
-fn replace<T: Copy>(target: &mut Vec<T>, source: &[T]) {
-    target.clear();
-    target.extend_from_slice(source);
 }
 
 #[cfg(test)]
@@ -314,23 +258,20 @@ mod tests {
     }
 
     #[test]
-    fn the_placeholder_mesh_has_vertices_for_the_renderer_to_allocate() {
-        let mesh = placeholder_quad_mesh();
-        assert_eq!(mesh.count_vertices(), 4);
-        assert_eq!(mesh.indices().map(|i| i.len()), Some(6));
-    }
-
-    #[test]
-    fn quads_are_two_triangles_around_the_centre() {
-        let mut buffers = QuadBuffers::default();
-        buffers.quad(Vec3::ONE, Vec3::X * 0.5, Vec3::Y * 0.5, Vec3::Z, [1.0; 4]);
-        assert_eq!(buffers.positions.len(), 4);
-        assert_eq!(buffers.indices, vec![0, 1, 2, 0, 2, 3]);
-        let centre = buffers
-            .positions
-            .iter()
-            .fold(Vec3::ZERO, |sum, p| sum + Vec3::from_array(*p))
-            / 4.0;
+    fn billboards_are_quads_around_their_centre() {
+        let mut quads = QuadMesh::new(Mesh::ATTRIBUTE_COLOR);
+        billboard(
+            &mut quads,
+            Vec3::ONE,
+            Vec3::X * 0.5,
+            Vec3::Y * 0.5,
+            Vec3::Z,
+            [1.0; 4],
+        );
+        assert_eq!(quads.len(), 1);
+        let corners = quads.corners(0);
+        let centre = corners.iter().sum::<Vec3>() / 4.0;
         assert!((centre - Vec3::ONE).length() < 1e-6);
+        assert!(((corners[1] - corners[0]).length() - 1.0).abs() < 1e-6);
     }
 }

@@ -1,6 +1,7 @@
 //! Parameters of an emitter: one set per particle kind, plus pool size, seed and air.
 
 use super::pool::SmokeKind;
+use super::tongues::TongueSettings;
 use core::fmt;
 
 /// How one kind of particle is born, moves, and looks.
@@ -32,13 +33,13 @@ pub struct KindSettings {
 }
 
 impl KindSettings {
-    /// Flames: short-lived, bright, rising fast.
+    /// Flames: flamelets that break off the tongues' tips, short-lived, bright, rising fast.
     pub const FLAME: Self = Self {
-        rate: 3500.0,
-        lifetime: [0.25, 0.55],
+        rate: 300.0,
+        lifetime: [0.15, 0.35],
         rise_speed: 0.9,
         spread_speed: 0.15,
-        size: [0.06, 0.02],
+        size: [0.035, 0.01],
         buoyancy: 5.0,
         gravity_scale: 0.0,
         drag: 3.0,
@@ -150,6 +151,8 @@ pub struct SmokeSettings {
     pub eddy_size: f32,
     /// How fast the turbulence changes, 1/s.
     pub eddy_rate: f32,
+    /// The flame tongues drawn along the burning front ([`TongueSettings::NONE`]: none).
+    pub tongues: TongueSettings,
 }
 
 impl Default for SmokeSettings {
@@ -166,6 +169,7 @@ impl Default for SmokeSettings {
             birth_radius: 0.015,
             eddy_size: 0.6,
             eddy_rate: 0.8,
+            tongues: TongueSettings::DEFAULT,
         }
     }
 }
@@ -235,7 +239,9 @@ impl SmokeSettings {
         if !(self.eddy_size.is_finite() && self.eddy_size > 0.0) {
             return Err(error("eddy_size", self.eddy_size, "finite and > 0"));
         }
-        Ok(())
+        self.tongues
+            .validate()
+            .map_err(|(field, value, requirement)| error(field, value, requirement))
     }
 }
 
