@@ -219,8 +219,10 @@ struct PixelVerdict(bool);
 pub struct PixelCounts {
     /// Light, unsaturated pixels: fresh pale cloth under light.
     pub cloth: u32,
-    /// Near-black pixels: charred cloth (background, floor and its shadows are lighter:
-    /// the darkest shadow measures about (64, 56, 48)).
+    /// Near-black or dark brown pixels: charred and scorched cloth, often seen through
+    /// flames. Background, floor and its shadows are lighter or greyer: the darkest shadow
+    /// measures about (64, 56, 48), red only 16 above blue; char and scorch under flame
+    /// light are brown, red more than 25 above blue.
     pub char: u32,
     /// Bright orange pixels: the glowing front.
     pub fire: u32,
@@ -236,7 +238,7 @@ impl PixelCounts {
         let (max, min) = (r.max(g).max(b), r.min(g).min(b));
         if min > 150 && max - min < 40 {
             self.cloth += 1;
-        } else if max < 48 {
+        } else if max < 48 || (max < 90 && r >= g && g >= b && r - b > 25) {
             self.char += 1;
         } else if r >= 170 && 4 * r > 5 * g && 10 * g > 14 * b && b < 140 {
             self.fire += 1;

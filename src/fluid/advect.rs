@@ -6,6 +6,7 @@
 //! arriving through an open wall is ambient: it brings no excess temperature, no smoke and no
 //! velocity beyond the uniform wind.
 
+use super::active::ActiveSpans;
 use super::grid::{GridShape, Stagger, face_mean};
 use super::pressure::{Wall, Walls};
 use crate::sim::parallel::for_each_part;
@@ -86,6 +87,8 @@ pub struct Advection<'a> {
     pub wind: Vec3,
     /// What lies beyond the box's faces.
     pub walls: &'a Walls,
+    /// Where the air is busy: outside, scalars become zero and velocities stay.
+    pub active: &'a ActiveSpans,
     /// Step, s.
     pub dt: f32,
 }
@@ -95,7 +98,8 @@ const LAYERS_PER_PART: usize = 2;
 
 impl Advection<'_> {
     /// Advects the cell-centred temperature and smoke `from` into `to` (solid cells hold
-    /// zero), tracing back along a midpoint (RK2) path. Layers of cells run in parallel on
+    /// zero, and so do cells outside the active spans), tracing back along a midpoint (RK2)
+    /// path. Layers of cells run in parallel on
     /// `pool`; each value depends only on `from`, so the result is the same on any number
     /// of threads.
     pub fn scalars(
@@ -106,7 +110,8 @@ impl Advection<'_> {
         pool: Option<&TaskPool>,
     ) {
         let shape = self.shape;
-        let layer = shape.dims[0] * shape.dims[1];
+        let [nx, ny, _] = shape.dims;
+        let layer = nx * ny;
         let [temperature, smoke] = to;
         let parts = temperature
             .chunks_mut(layer * LAYERS_PER_PART)
@@ -114,28 +119,26 @@ impl Advection<'_> {
             .enumerate();
         for_each_part(pool, parts, |(part, (t_out, s_out))| {
             let k0 = part * LAYERS_PER_PART;
-            let mut local = 0;
-            for k in k0..(k0 + LAYERS_PER_PART).min(shape.dims[2]) {
-                for j in 0..shape.dims[1] {
-                    for i in 0..shape.dims[0] {
-                        let c = k0 * layer + local;
-                        let (t, s) = (&mut t_out[local], &mut s_out[local]);
-                        local += 1;
-                        if solid[c] {
-                            (*t, *s) = (0.0, 0.0);
-                            continue;
-                        }
-                        let here = shape.position(i, j, k, Stagger::CENTRE);
-                        let u = Vec3::new(self.centre[0][c], self.centre[1][c], self.centre[2][c]);
-                        let departure = departure(shape, self.centre, self.wind, here, u, self.dt);
-                        if !arrives_from_inside(shape, self.walls, departure) {
-                            (*t, *s) = (0.0, 0.0);
-                            continue;
-                        }
-                        let stencil = shape.stencil(departure, shape.dims, Stagger::CENTRE);
-                        *t = stencil.apply(from[0]);
-                        *s = stencil.apply(from[1]);
+            let rows = t_out.chunks_mut(nx).zip(s_out.chunks_mut(nx));
+            for (row, (t_row, s_row)) in rows.enumerate() {
+                let (j, k) = (row % ny, k0 + row / ny);
+                let span = self.active.row(shape, j, k);
+                t_row.fill(0.0);
+                s_row.fill(0.0);
+                for i in span {
+                    let c = shape.index(i, j, k);
+                    if solid[c] {
+                        continue;
                     }
+                    let here = shape.position(i, j, k, Stagger::CENTRE);
+                    let u = Vec3::new(self.centre[0][c], self.centre[1][c], self.centre[2][c]);
+                    let departure = departure(shape, self.centre, self.wind, here, u, self.dt);
+                    if !arrives_from_inside(shape, self.walls, departure) {
+                        continue;
+                    }
+                    let stencil = shape.stencil(departure, shape.dims, Stagger::CENTRE);
+                    t_row[i] = stencil.apply(from[0]);
+                    s_row[i] = stencil.apply(from[1]);
                 }
             }
         });
@@ -143,7 +146,8 @@ impl Advection<'_> {
 
     /// Advects the staggered velocity `from` into `to` (the air carries its own momentum).
     /// The trace is a single Euler step back from the face, whose velocity is the mean of its
-    /// two cells. Layers of faces run in parallel on `pool`.
+    /// two cells. Faces that touch no active cell keep their velocity. Layers of faces run in
+    /// parallel on `pool`.
     pub fn velocity(&self, from: &[Vec<f32>; 3], to: &mut [Vec<f32>; 3], pool: Option<&TaskPool>) {
         let shape = self.shape;
         let centre = self.centre;
@@ -156,21 +160,19 @@ impl Advection<'_> {
             let parts = out.chunks_mut(layer * LAYERS_PER_PART).enumerate();
             for_each_part(pool, parts, |(part, out)| {
                 let k0 = part * LAYERS_PER_PART;
-                let mut local = 0;
-                for k in k0..(k0 + LAYERS_PER_PART).min(dims[2]) {
-                    for j in 0..dims[1] {
-                        for i in 0..dims[0] {
-                            let value = &mut out[local];
-                            local += 1;
-                            let u = face_mean(shape.face_cells(axis, [i, j, k]), cell_velocity);
-                            let here = shape.position(i, j, k, stagger);
-                            let departure = here - self.dt * (u + self.wind);
-                            *value = if arrives_from_inside(shape, self.walls, departure) {
-                                shape.sample(source, dims, stagger, departure)
-                            } else {
-                                0.0
-                            };
-                        }
+                for (row, out_row) in out.chunks_mut(dims[0]).enumerate() {
+                    let (j, k) = (row % dims[1], k0 + row / dims[1]);
+                    let first = dims[0] * (j + dims[1] * k);
+                    out_row.copy_from_slice(&source[first..first + dims[0]]);
+                    for i in self.active.face_row(shape, axis, j, k) {
+                        let u = face_mean(shape.face_cells(axis, [i, j, k]), cell_velocity);
+                        let here = shape.position(i, j, k, stagger);
+                        let departure = here - self.dt * (u + self.wind);
+                        out_row[i] = if arrives_from_inside(shape, self.walls, departure) {
+                            shape.sample(source, dims, stagger, departure)
+                        } else {
+                            0.0
+                        };
                     }
                 }
             });

@@ -6,6 +6,7 @@
 //! | piece | what it holds |
 //! |---|---|
 //! | [`grid`] | [`GridShape`]: cells, staggered faces, trilinear sampling and splatting |
+//! | [`active`] | [`ActiveSpans`](active::ActiveSpans): the rows of cells near busy air, where advection runs |
 //! | [`advect`] | semi-Lagrangian advection of the scalars and the velocity |
 //! | [`forces`] | buoyancy and vorticity confinement |
 //! | [`pressure`] | [`PressureSolver`]: multigrid-preconditioned CG for the projection |
@@ -21,6 +22,7 @@
 //! ambient pressure, so the plume leaves through them. While nothing feeds it and the air
 //! has settled, a step costs nothing.
 
+pub mod active;
 pub mod advect;
 pub mod coupling;
 pub mod forces;

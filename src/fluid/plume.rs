@@ -1,6 +1,7 @@
 //! [`Plume`]: the air around a fire on a staggered grid, stepped as Stam's stable fluids:
 //! advect, add forces, project.
 
+use super::active::{ActiveSpans, BUSY_SMOKE, BUSY_SPEED, BUSY_TEMPERATURE};
 use super::advect::{Advection, centre_velocity};
 use super::forces::{VorticityScratch, add_buoyancy, add_vorticity_confinement, for_each_face};
 use super::grid::{GridShape, Stagger};
@@ -22,6 +23,8 @@ pub struct PlumeReport {
     pub max_temperature: f32,
     /// Fastest face velocity, m/s.
     pub max_speed: f32,
+    /// Cells advected: those near hot, smoky or moving air (the rest of the box is still).
+    pub active_cells: usize,
 }
 
 /// The air of a fire: velocity on cell faces (m/s, relative to the uniform wind), excess
@@ -43,6 +46,7 @@ pub struct Plume {
     centre: [Vec<f32>; 3],
     vorticity: VorticityScratch,
     rhs: Vec<f32>,
+    active: ActiveSpans,
     /// Whether heat, smoke or a push came in since the last step.
     fed: bool,
     /// Whether the air has settled to still, ambient and clear (steps do nothing).
@@ -85,6 +89,7 @@ impl Plume {
             centre: core::array::from_fn(|_| vec![0.0; n]),
             vorticity: VorticityScratch::new(n),
             rhs: vec![0.0; n],
+            active: ActiveSpans::new(&shape),
             fed: false,
             quiet: true,
             report: PlumeReport::default(),
@@ -307,11 +312,13 @@ impl Plume {
         let up = up.normalize_or(Vec3::Y);
         let shape = self.shape;
         centre_velocity(&shape, &self.velocity, &mut self.centre);
+        self.find_busy_air(dt, wind);
         let advection = Advection {
             shape: &shape,
             centre: &self.centre,
             wind,
             walls: &self.settings.walls,
+            active: &self.active,
             dt,
         };
         advection.scalars(
@@ -379,8 +386,41 @@ impl Plume {
             max_divergence: self.divergence_left(),
             max_temperature,
             max_speed,
+            active_cells: self.active.active_cells(),
         };
         self.report
+    }
+
+    /// Updates the active spans: the cells whose air is hotter, smokier or faster than the
+    /// busy thresholds, grown by the farthest the air travels in `dt` plus one cell.
+    fn find_busy_air(&mut self, dt: f32, wind: Vec3) {
+        let shape = self.shape;
+        let fastest = self
+            .velocity
+            .iter()
+            .flatten()
+            .fold(0.0f32, |m, u| m.max(u.abs()));
+        let travel = (fastest * 3f32.sqrt() + wind.length()) * dt / shape.cell;
+        let largest = shape.dims.into_iter().max().unwrap_or(1);
+        if !travel.is_finite() || travel >= largest as f32 {
+            self.active.all(&shape);
+            return;
+        }
+        let reach = travel.ceil() as usize + 1;
+        let [u, v, w] = &self.velocity;
+        let (temperature, smoke) = (&self.temperature, &self.smoke);
+        let [nx, ny, _] = shape.dims;
+        self.active.update(&shape, reach, |[i, j, k], c| {
+            if temperature[c].abs() > BUSY_TEMPERATURE || smoke[c] > BUSY_SMOKE {
+                return true;
+            }
+            let fu = i + (nx + 1) * (j + ny * k);
+            let fv = i + nx * (j + (ny + 1) * k);
+            let fw = c;
+            [u[fu], u[fu + 1], v[fv], v[fv + nx], w[fw], w[fw + nx * ny]]
+                .iter()
+                .any(|s| s.abs() > BUSY_SPEED)
+        });
     }
 
     /// Zeroes the faces no air flows through (those touching a solid cell or a closed wall),

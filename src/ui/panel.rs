@@ -46,6 +46,8 @@ pub(super) struct PanelParams<'w, 's> {
     mesh_builders: Query<'w, 's, &'static mut crate::sim::MeshClothBuilder>,
     #[cfg(feature = "smoke")]
     smoke: Query<'w, 's, &'static mut crate::smoke::SmokeEmitter>,
+    #[cfg(feature = "fluid")]
+    fire: Option<Res<'w, crate::fluid::FirePlume>>,
 }
 
 fn cloth_label(entity: Entity, name: Option<&Name>) -> String {
@@ -102,6 +104,10 @@ fn panel_contents(ui: &mut egui::Ui, p: &mut PanelParams) {
         return;
     };
     statistics(ui, p, entity);
+    #[cfg(feature = "fluid")]
+    if let Some(fire) = p.fire.as_deref() {
+        fire_air(ui, fire);
+    }
     views(ui, p);
     parameters(ui, p, entity);
 }
@@ -193,58 +199,112 @@ fn statistics(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
                 topology,
                 in_use.environment(),
             );
-            egui::Grid::new("cloth statistics")
-                .num_columns(2)
-                .striped(true)
-                .show(ui, |ui| {
-                    let mut row = |name: &str, value: String| {
-                        ui.label(name);
-                        ui.label(value);
-                        ui.end_row();
-                    };
+            name_value_grid(ui, "cloth statistics", |row| {
+                row(
+                    "particles alive",
+                    format!(
+                        "{} of {}",
+                        status.particles - status.burnt,
+                        status.particles
+                    ),
+                );
+                row(
+                    "ignited / burnt",
+                    format!("{} / {}", status.ignited, status.burnt),
+                );
+                row("triangles drawn", status.live_triangles.to_string());
+                #[cfg(feature = "smoke")]
+                if let Ok(emitter) = p.smoke.get(entity) {
                     row(
-                        "particles alive",
-                        format!(
-                            "{} of {}",
-                            status.particles - status.burnt,
-                            status.particles
-                        ),
+                        "smoke particles",
+                        format!("{} of {}", emitter.pool().live(), emitter.pool().capacity()),
                     );
-                    row(
-                        "ignited / burnt",
-                        format!("{} / {}", status.ignited, status.burnt),
-                    );
-                    row("triangles drawn", status.live_triangles.to_string());
-                    #[cfg(feature = "smoke")]
-                    if let Ok(emitter) = p.smoke.get(entity) {
-                        row(
-                            "smoke particles",
-                            format!("{} of {}", emitter.pool().live(), emitter.pool().capacity()),
-                        );
-                    }
-                    let step = p.timing.last_step.as_secs_f64() * 1e3;
-                    row("step (all cloths)", format!("{step:.2} ms"));
-                    row(
-                        "per substep",
-                        format!(
-                            "{:.1} µs x {}",
-                            p.timing.per_substep().as_secs_f64() * 1e6,
-                            p.timing.substeps
-                        ),
-                    );
-                    row("max stretch", format!("{stretch:.3}"));
-                    row("energy", format!("{energy:.3} J"));
-                    if low <= high {
-                        row("temperature", format!("{low:.0} to {high:.0} °C"));
-                    }
-                    row("repairs", status.repairs.to_string());
-                });
+                }
+                let step = p.timing.last_step.as_secs_f64() * 1e3;
+                row("step (all cloths)", format!("{step:.2} ms"));
+                row(
+                    "per substep",
+                    format!(
+                        "{:.1} µs x {}",
+                        p.timing.per_substep().as_secs_f64() * 1e6,
+                        p.timing.substeps
+                    ),
+                );
+                row("max stretch", format!("{stretch:.3}"));
+                row("energy", format!("{energy:.3} J"));
+                if low <= high {
+                    row("temperature", format!("{low:.0} to {high:.0} °C"));
+                }
+                row("repairs", status.repairs.to_string());
+            });
             ui.label(format!(
                 "burnt fraction: {:.0} %",
                 100.0 * status.burnt_fraction()
             ));
             burnt_plot(ui, &p.panel.burnt_history);
         });
+}
+
+/// A striped two-column grid of names and values; `rows` adds them through `row`.
+fn name_value_grid(ui: &mut egui::Ui, id: &str, rows: impl FnOnce(&mut dyn FnMut(&str, String))) {
+    egui::Grid::new(id)
+        .num_columns(2)
+        .striped(true)
+        .show(ui, |ui| {
+            let mut row = |name: &str, value: String| {
+                ui.label(name);
+                ui.label(value);
+                ui.end_row();
+            };
+            rows(&mut row);
+        });
+}
+
+/// The fire's air: whether there is a plume, its box, and what its latest step did.
+#[cfg(feature = "fluid")]
+fn fire_air(ui: &mut egui::Ui, fire: &crate::fluid::FirePlume) {
+    egui::CollapsingHeader::new("fire's air").show(ui, |ui| {
+        let Some(plume) = fire.plume() else {
+            ui.label("no plume yet: it is built on the first fire");
+            return;
+        };
+        let shape = plume.shape();
+        let report = plume.report();
+        let cells = shape.cells();
+        name_value_grid(ui, "plume statistics", |row| {
+            let [nx, ny, nz] = shape.dims;
+            row(
+                "grid",
+                format!("{nx} x {ny} x {nz} of {:.0} cm", shape.cell * 100.0),
+            );
+            if plume.is_quiet() {
+                row("state", "still (no work)".to_owned());
+                return;
+            }
+            row(
+                "step",
+                format!("{:.2} ms", fire.last_step.as_secs_f64() * 1e3),
+            );
+            row(
+                "cells advected",
+                format!(
+                    "{} ({:.0} %)",
+                    report.active_cells,
+                    100.0 * report.active_cells as f64 / cells.max(1) as f64
+                ),
+            );
+            row("CG iterations", report.solve.iterations.to_string());
+            row(
+                "divergence left",
+                format!("{:.3} /s", report.max_divergence),
+            );
+            row(
+                "hottest air",
+                format!("{:.0} K above", report.max_temperature),
+            );
+            row("fastest air", format!("{:.2} m/s", report.max_speed));
+        });
+    });
 }
 
 /// The burnt fraction over the last [`HISTORY_LENGTH`](super::HISTORY_LENGTH) samples.
