@@ -362,7 +362,7 @@ impl Plume {
             &mut self.vorticity,
             &mut self.velocity,
         );
-        let solve = self.project();
+        let solve = self.project(pool);
         self.fed = false;
         let max_temperature = self.temperature.iter().fold(0.0f32, |m, t| m.max(t.abs()));
         let max_speed = self
@@ -425,7 +425,7 @@ impl Plume {
 
     /// Zeroes the faces no air flows through (those touching a solid cell or a closed wall),
     /// solves for the pressure that removes the divergence, and subtracts its gradient.
-    fn project(&mut self) -> SolveReport {
+    fn project(&mut self, pool: Option<&TaskPool>) -> SolveReport {
         let shape = self.shape;
         let walls = self.settings.walls.0;
         let solid = &self.solid;
@@ -448,10 +448,11 @@ impl Plume {
         for (b, s) in self.rhs.iter_mut().zip(solid) {
             *b = if *s { 0.0 } else { -*b * h * h };
         }
-        let report = self.solver.solve(
+        let report = self.solver.solve_on(
             &self.rhs,
             self.settings.tolerance * h * h,
             self.settings.max_iterations,
+            pool,
         );
         let phi = &self.solver.solution;
         for (axis, faces) in self.velocity.iter_mut().enumerate() {

@@ -214,13 +214,20 @@ fn hot_air_spreads_sideways_under_a_ceiling() {
 }
 
 #[test]
-fn the_same_input_gives_the_same_air_bit_for_bit() {
-    let run = || {
-        let mut plume = Plume::new(PlumeSettings::default(), Vec3::ZERO).unwrap();
+fn the_same_input_gives_the_same_air_bit_for_bit_on_any_number_of_threads() {
+    use bevy::tasks::{TaskPool, TaskPoolBuilder};
+    // 40³: big enough that the pressure sweeps split over the pool too.
+    let settings = PlumeSettings {
+        resolution: [40; 3],
+        cell_size: 0.064,
+        ..PlumeSettings::default()
+    };
+    let run = |pool: Option<&TaskPool>| {
+        let mut plume = Plume::new(settings, Vec3::ZERO).unwrap();
         for step in 0..20 {
             plume.add_heat(Vec3::new(1.28, 0.3 + 0.01 * step as f32, 1.2), 500.0);
             plume.add_smoke(Vec3::new(1.28, 0.3, 1.2), 0.01);
-            plume.step(DT, Vec3::new(0.2, 0.0, 0.0), Vec3::Y);
+            plume.step_on(DT, Vec3::new(0.2, 0.0, 0.0), Vec3::Y, pool);
         }
         (
             plume.temperature().to_vec(),
@@ -228,7 +235,12 @@ fn the_same_input_gives_the_same_air_bit_for_bit() {
             plume.smoke().to_vec(),
         )
     };
-    assert!(run() == run());
+    let serial = run(None);
+    assert!(serial == run(None));
+    for threads in [1, 3] {
+        let pool = TaskPoolBuilder::new().num_threads(threads).build();
+        assert!(serial == run(Some(&pool)), "{threads} threads differ");
+    }
 }
 
 #[test]
