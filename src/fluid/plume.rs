@@ -47,6 +47,8 @@ pub struct Plume {
     vorticity: VorticityScratch,
     rhs: Vec<f32>,
     active: ActiveSpans,
+    /// Per axis, the faces no air flows through: touching a solid cell or a closed wall.
+    blocked: [Vec<u32>; 3],
     /// Whether heat, smoke or a push came in since the last step.
     fed: bool,
     /// Whether the air has settled to still, ambient and clear (steps do nothing).
@@ -90,10 +92,39 @@ impl Plume {
             vorticity: VorticityScratch::new(n),
             rhs: vec![0.0; n],
             active: ActiveSpans::new(&shape),
+            blocked: Default::default(),
             fed: false,
             quiet: true,
             report: PlumeReport::default(),
-        })
+        }
+        .with_blocked_faces())
+    }
+
+    /// The plume with its list of blocked faces made.
+    fn with_blocked_faces(mut self) -> Self {
+        self.find_blocked_faces();
+        self
+    }
+
+    /// Lists, per axis, the faces no air flows through (touching a solid cell or a closed
+    /// wall), reusing the lists' memory. Run when the solids change.
+    fn find_blocked_faces(&mut self) {
+        let walls = self.settings.walls.0;
+        let solid = &self.solid;
+        for (axis, list) in self.blocked.iter_mut().enumerate() {
+            list.clear();
+            for_each_face(&self.shape, axis, |face, cells| {
+                let blocked = match cells {
+                    (Some(a), Some(b)) => solid[a] || solid[b],
+                    (None, Some(a)) => solid[a] || walls[axis][0] == Wall::Closed,
+                    (Some(a), None) => solid[a] || walls[axis][1] == Wall::Closed,
+                    (None, None) => true,
+                };
+                if blocked {
+                    list.push(face as u32);
+                }
+            });
+        }
     }
 
     /// The settings in use.
@@ -171,6 +202,7 @@ impl Plume {
         }
         if changed {
             self.solver = PressureSolver::new(&self.shape, &self.solid, self.settings.walls);
+            self.find_blocked_faces();
             for (c, solid) in self.solid.iter().enumerate() {
                 if *solid {
                     self.temperature[c] = 0.0;
@@ -427,25 +459,11 @@ impl Plume {
     /// solves for the pressure that removes the divergence, and subtracts its gradient.
     fn project(&mut self, pool: Option<&TaskPool>) -> SolveReport {
         let shape = self.shape;
-        let walls = self.settings.walls.0;
-        let solid = &self.solid;
-        for (axis, faces) in self.velocity.iter_mut().enumerate() {
-            for_each_face(&shape, axis, |face, cells| {
-                let blocked = match cells {
-                    (Some(a), Some(b)) => solid[a] || solid[b],
-                    (None, Some(a)) => solid[a] || walls[axis][0] == Wall::Closed,
-                    (Some(a), None) => solid[a] || walls[axis][1] == Wall::Closed,
-                    (None, None) => true,
-                };
-                if blocked {
-                    faces[face] = 0.0;
-                }
-            });
-        }
+        self.zero_blocked_faces();
         // b = −h² ∇·u = −h Σ (outflow − inflow)
         divergence(&shape, &self.velocity, &mut self.rhs);
         let h = shape.cell;
-        for (b, s) in self.rhs.iter_mut().zip(solid) {
+        for (b, s) in self.rhs.iter_mut().zip(&self.solid) {
             *b = if *s { 0.0 } else { -*b * h * h };
         }
         let report = self.solver.solve_on(
@@ -454,21 +472,29 @@ impl Plume {
             self.settings.max_iterations,
             pool,
         );
+        // φ is zero beyond open walls and in solid cells; the faces into solids and closed
+        // walls, which this also changes, are zeroed again after.
         let phi = &self.solver.solution;
         for (axis, faces) in self.velocity.iter_mut().enumerate() {
-            for_each_face(&shape, axis, |face, cells| {
-                let (below, above) = match cells {
-                    (Some(a), Some(b)) if !solid[a] && !solid[b] => (phi[a], phi[b]),
-                    (None, Some(a)) if !solid[a] && walls[axis][0] == Wall::Open => (0.0, phi[a]),
-                    (Some(a), None) if !solid[a] && walls[axis][1] == Wall::Open => (phi[a], 0.0),
-                    _ => return,
-                };
+            for_each_face(&shape, axis, |face, (below, above)| {
+                let below = below.map_or(0.0, |c| phi[c]);
+                let above = above.map_or(0.0, |c| phi[c]);
                 faces[face] -= (above - below) / h;
             });
         }
+        self.zero_blocked_faces();
         SolveReport {
             iterations: report.iterations,
             residual: report.residual / (h * h),
+        }
+    }
+
+    /// Zeroes the velocity on the faces no air flows through.
+    fn zero_blocked_faces(&mut self) {
+        for (faces, blocked) in self.velocity.iter_mut().zip(&self.blocked) {
+            for &face in blocked {
+                faces[face as usize] = 0.0;
+            }
         }
     }
 
