@@ -5,8 +5,14 @@
 //! Controls: `Space` lights them all again at the bottom, `R` resets, left click ignites
 //! where you click, right drag orbits, scroll zooms.
 //!
+//! With the `material_assets` feature (on by default) each swatch loads its material from
+//! `assets/materials/<name>.burnmat.ron`. Run it with `hot_reload` and edit one of those files
+//! while it runs: the swatch takes the new material as soon as the file is saved (the panel's
+//! "save" writes such files too).
+//!
 //! ```sh
 //! cargo run --release --example materials
+//! cargo run --release --example materials --features hot_reload
 //! ```
 
 #[path = "common/mod.rs"]
@@ -49,13 +55,18 @@ fn x_of(index: usize) -> f32 {
     (index as f32 - 2.0) * GAP
 }
 
-fn spawn_all(mut commands: Commands) {
+fn spawn_all(mut commands: Commands, assets: Res<AssetServer>) {
     for (index, material) in BurnMaterial::PRESETS.into_iter().enumerate() {
-        spawn_swatch(&mut commands, index, material);
+        spawn_swatch(&mut commands, &assets, index, material);
     }
 }
 
-fn spawn_swatch(commands: &mut Commands, index: usize, material: BurnMaterial) {
+fn spawn_swatch(
+    commands: &mut Commands,
+    #[cfg_attr(not(feature = "material_assets"), allow(unused_variables))] assets: &AssetServer,
+    index: usize,
+    material: BurnMaterial,
+) {
     let label = commands
         .spawn((
             Text::new(""),
@@ -69,13 +80,19 @@ fn spawn_swatch(commands: &mut Commands, index: usize, material: BurnMaterial) {
             },
         ))
         .id();
-    commands.spawn((
+    let mut swatch = commands.spawn((
         Swatch { label },
         Name::new(material.name),
         ClothBuilder::grid(COLUMNS, ROWS, SPACING).pin_top_every(4),
-        material,
         Transform::from_xyz(x_of(index), RAIL_HEIGHT, 0.0),
     ));
+    // The preset's file (the cloth is built once it loads), or the preset itself.
+    #[cfg(feature = "material_assets")]
+    swatch.insert(bevy_burning_cloth::material_file::BurnMaterialFile(
+        assets.load(format!("materials/{}.burnmat.ron", material.name)),
+    ));
+    #[cfg(not(feature = "material_assets"))]
+    swatch.insert(material);
 }
 
 fn bottom_centre(cloth: &GlobalTransform) -> Vec3 {
@@ -95,16 +112,17 @@ fn ignite_new(
 fn keyboard(
     keys: Res<ButtonInput<KeyCode>>,
     mut commands: Commands,
-    swatches: Query<(Entity, &Swatch, &BurnMaterial, &GlobalTransform)>,
+    assets: Res<AssetServer>,
+    swatches: Query<(Entity, &Swatch, &GlobalTransform)>,
 ) {
     if keys.just_pressed(KeyCode::KeyR) {
-        for (entity, swatch, _, _) in &swatches {
+        for (entity, swatch, _) in &swatches {
             commands.entity(swatch.label).despawn();
             commands.entity(entity).despawn();
         }
-        spawn_all(commands.reborrow());
+        spawn_all(commands.reborrow(), assets);
     } else if keys.just_pressed(KeyCode::Space) {
-        for (entity, _, _, transform) in &swatches {
+        for (entity, _, transform) in &swatches {
             commands.trigger(Ignite::at_world_point(entity, bottom_centre(transform)));
         }
     }

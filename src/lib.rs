@@ -34,6 +34,7 @@
 //!   the step for each cloth, and report.
 //! - `render` (feature `render`): the dynamic mesh, the burning material, click-to-ignite,
 //!   [`Flammable`](render::Flammable) meshes.
+//! - `material_file` (feature `material_assets`): materials as `.burnmat.ron` asset files.
 //! - `smoke` (feature `smoke`): flames, smoke and embers from the burning front.
 //! - `ui` (feature `egui`): the control panel.
 //!
@@ -49,6 +50,8 @@
 //! - `smoke` (default): flames, smoke and embers. Without it none of that code is compiled.
 //! - `egui` (default, implies `render`): the control panel, `ui::BurningClothUiPlugin`.
 //! - `gltf` (default, implies `render`): Bevy's glTF loader, for the glTF example and test.
+//! - `material_assets` (default): materials as `.burnmat.ron` asset files
+//!   (`material_file`); `hot_reload` (off) adds Bevy's file watcher so edits apply live.
 //! - `report` (off): the accuracy report and stability matrix ([`report`]), for the report
 //!   examples and their tests.
 
@@ -65,6 +68,8 @@ pub struct ReadmeDoctests;
 
 #[cfg(feature = "fluid")]
 pub mod fluid;
+#[cfg(feature = "material_assets")]
+pub mod material_file;
 #[cfg(feature = "render")]
 pub mod render;
 #[cfg(feature = "report")]
@@ -93,6 +98,7 @@ use bevy::ecs::schedule::ScheduleLabel;
 /// | plugin | feature | what it adds |
 /// |---|---|---|
 /// | [`ClothSimulationPlugin`](plugin::ClothSimulationPlugin) | always | building cloths, the step of every cloth, [`Ignite`](plugin::Ignite), events |
+/// | `MaterialFilePlugin` | `material_assets` | `.burnmat.ron` material files, hot-reloaded onto cloths |
 /// | `ClothRenderPlugin` | `render` | a dynamic mesh per cloth, the burning-cloth material, click to ignite, `Flammable` meshes |
 /// | `SmokePlugin` | `smoke` | a flame, smoke and ember emitter per cloth |
 /// | `FluidPlugin` | `fluid` | the fire's air: a plume grid that carries the smoke, blows on and heats the cloth |
@@ -124,6 +130,8 @@ impl PluginGroup for BurningClothPlugins {
         let group = PluginGroupBuilder::start::<Self>().add(plugin::ClothSimulationPlugin {
             schedule: self.schedule,
         });
+        #[cfg(feature = "material_assets")]
+        let group = group.add(material_file::MaterialFilePlugin);
         #[cfg(feature = "render")]
         let group = group.add(render::ClothRenderPlugin);
         #[cfg(feature = "smoke")]
@@ -145,6 +153,8 @@ pub mod prelude {
     pub use crate::BurningClothPlugins;
     #[cfg(feature = "fluid")]
     pub use crate::fluid::{FirePlume, FluidPlugin, PlumeSettings};
+    #[cfg(feature = "material_assets")]
+    pub use crate::material_file::{BurnMaterialAsset, BurnMaterialFile};
     pub use crate::plugin::{
         BurningClothSystems, ClothBuildSystems, ClothBurntOut, ClothCollider, ClothDiagnostics,
         ClothEnvironment, ClothIgnited, ClothInUse, ClothInstability, ClothParticles,

@@ -445,6 +445,19 @@ fn diagnostics_report_the_step_and_the_particles_on_fire() {
         step > 0.0 && dynamics > 0.0 && dynamics <= step,
         "{dynamics} of {step} ms"
     );
+    #[cfg(feature = "smoke")]
+    {
+        use bevy_burning_cloth::smoke::{SmokeDiagnostics, SmokeEmitter};
+        let live = app
+            .world()
+            .get::<SmokeEmitter>(cloth)
+            .unwrap()
+            .pool()
+            .live();
+        assert!(live > 0, "smoke rises from the fire");
+        assert_eq!(value(&SmokeDiagnostics::PARTICLES), live as f64);
+        assert!(value(&SmokeDiagnostics::STEP) > 0.0);
+    }
 }
 
 #[test]

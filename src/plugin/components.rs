@@ -126,6 +126,13 @@ pub struct DespawnWhenBurntAway;
 #[reflect(Component, Default, Clone, Debug, PartialEq)]
 pub struct HoldDespawn;
 
+/// Keeps a cloth description ([`ClothBuilder`] or [`MeshClothBuilder`]) from being built while
+/// present: something it needs has not arrived yet (a material file still loading holds its
+/// cloth this way). Whoever removes it marks the builder changed, so the cloth is built then.
+/// Not reflected: a scene saves the description, not the wait.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HoldBuild;
+
 /// Live numbers about a cloth, updated every fixed step, for gameplay and UI.
 #[derive(Component, Clone, Copy, Debug, Default, PartialEq, Reflect)]
 #[reflect(Component, Default, Clone, Debug, PartialEq)]

@@ -29,7 +29,7 @@ mod systems;
 
 pub use components::{
     ClothCollider, ClothInUse, ClothParticles, ClothSolver, ClothSprings, ClothStatus,
-    ClothTopology, DespawnWhenBurntAway, HoldDespawn,
+    ClothTopology, DespawnWhenBurntAway, HoldBuild, HoldDespawn,
 };
 #[cfg(feature = "smoke")]
 pub(crate) use control::consume_pending_step;

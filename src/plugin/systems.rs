@@ -3,7 +3,7 @@
 
 use super::components::{
     ClothCollider, ClothInUse, ClothParticles, ClothScratch, ClothSolver, ClothSprings,
-    ClothStatus, ClothTopology, DespawnWhenBurntAway, HoldDespawn, PendingIgnitions,
+    ClothStatus, ClothTopology, DespawnWhenBurntAway, HoldBuild, HoldDespawn, PendingIgnitions,
 };
 use super::control::ClothStepTiming;
 use super::events::{
@@ -63,7 +63,7 @@ pub(crate) fn build_cloths<D: ClothDescription>(
             &GlobalTransform,
             Option<&PendingIgnitions>,
         ),
-        Changed<D>,
+        (Changed<D>, Without<HoldBuild>),
     >,
 ) {
     for (entity, builder, material, solver, transform, pending) in &builders {

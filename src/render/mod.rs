@@ -32,6 +32,7 @@ use crate::plugin::{ClothBuildSystems, ClothInUse, ClothParticles, ClothTopology
 use crate::sim::BurnMaterial;
 use crate::sim::mesh::MeshData;
 use bevy::asset::RenderAssetUsages;
+use bevy::diagnostic::{Diagnostic, DiagnosticPath, Diagnostics, RegisterDiagnostic};
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
 use bevy::pbr::{MaterialPlugin, PbrPlugin};
 use bevy::picking::PickingPlugin;
@@ -68,6 +69,9 @@ impl Plugin for ClothRenderPlugin {
         }
         material::load_shader(app);
         app.add_plugins(MaterialPlugin::<BurningClothMaterial>::default())
+            .register_diagnostic(
+                Diagnostic::new(ClothRenderDiagnostics::MESH_SYNC).with_suffix("ms"),
+            )
             .init_resource::<IgniteMarkerAssets>()
             .add_systems(Update, fade_ignite_markers)
             .add_systems(
@@ -153,6 +157,7 @@ fn attach_cloth_meshes(
 }
 
 fn sync_cloth_meshes(
+    mut diagnostics: Diagnostics,
     mut meshes: ResMut<Assets<Mesh>>,
     mut cloths: Query<
         (
@@ -166,6 +171,7 @@ fn sync_cloth_meshes(
         Changed<ClothParticles>,
     >,
 ) {
+    let started = std::time::Instant::now();
     for (particles, topology, in_use, transform, mesh3d, mut buffers) in &mut cloths {
         let Some(mut mesh) = meshes.get_mut(&mesh3d.0) else {
             continue;
@@ -185,6 +191,17 @@ fn sync_cloth_meshes(
             copy_into(indices, &topology.live_indices);
         }
     }
+    let milliseconds = started.elapsed().as_secs_f64() * 1e3;
+    diagnostics.add_measurement(&ClothRenderDiagnostics::MESH_SYNC, || milliseconds);
+}
+
+/// Drawing diagnostics, read by `LogDiagnosticsPlugin` and the panel.
+pub struct ClothRenderDiagnostics;
+
+impl ClothRenderDiagnostics {
+    /// Time to copy every changed cloth into its mesh (positions, normals, burn attribute,
+    /// live triangles) on the CPU, ms per frame.
+    pub const MESH_SYNC: DiagnosticPath = DiagnosticPath::const_new("burning_cloth/mesh_sync");
 }
 
 fn write_attribute(mesh: &mut Mesh, attribute: bevy::mesh::MeshVertexAttribute, data: &[[f32; 3]]) {

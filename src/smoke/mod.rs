@@ -37,7 +37,7 @@ pub mod turbulence;
 pub use emitter::{Air, BurningCloth, SmokeCounts, SmokeSim};
 #[cfg(feature = "fluid")]
 pub(crate) use plugin::air;
-pub use plugin::{SmokeEmitter, SmokePlugin, SmokeSystems};
+pub use plugin::{SmokeDiagnostics, SmokeEmitter, SmokePlugin, SmokeSystems};
 pub use pool::{NewParticle, SmokeKind, SmokePool};
 pub use settings::{KindSettings, MAX_SMOKE_CAPACITY, SmokeSettings, SmokeSettingsError};
 pub use tongues::{FlameTongue, TongueSettings, gather_tongues};

@@ -6,9 +6,27 @@ use super::settings::{SmokeSettings, SmokeSettingsError};
 use crate::plugin::{
     BurningClothSystems, ClothEnvironment, ClothInUse, ClothParticles, ClothTopology, HoldDespawn,
 };
+use bevy::diagnostic::{Diagnostic, DiagnosticPath, Diagnostics, RegisterDiagnostic};
 use bevy::ecs::intern::Interned;
 use bevy::ecs::schedule::ScheduleLabel;
 use bevy::prelude::*;
+use std::time::{Duration, Instant};
+
+/// Smoke diagnostics, read by `LogDiagnosticsPlugin` and the panel (one measurement per
+/// simulation step while any emitter exists).
+pub struct SmokeDiagnostics;
+
+impl SmokeDiagnostics {
+    /// Time to emit from every cloth and move every particle, ms.
+    pub const STEP: DiagnosticPath = DiagnosticPath::const_new("burning_cloth/smoke_step");
+    /// Flame, smoke and ember particles alive, over every emitter.
+    pub const PARTICLES: DiagnosticPath =
+        DiagnosticPath::const_new("burning_cloth/smoke_particles");
+}
+
+/// Time spent emitting this step, carried to the system that moves the particles.
+#[derive(Resource, Default)]
+struct SmokeEmitTime(Duration);
 
 /// A cloth's flames, smoke and embers: settings and a fixed-capacity particle pool.
 ///
@@ -95,6 +113,9 @@ impl Default for SmokePlugin {
 impl Plugin for SmokePlugin {
     fn build(&self, app: &mut App) {
         app.register_required_components::<ClothParticles, SmokeEmitter>()
+            .init_resource::<SmokeEmitTime>()
+            .register_diagnostic(Diagnostic::new(SmokeDiagnostics::STEP).with_suffix("ms"))
+            .register_diagnostic(Diagnostic::new(SmokeDiagnostics::PARTICLES))
             .configure_sets(
                 self.schedule,
                 SmokeSystems
@@ -127,6 +148,7 @@ pub(crate) fn air(environment: &ClothEnvironment) -> Air {
 fn emit_smoke(
     time: Res<Time>,
     environment: Res<ClothEnvironment>,
+    mut emit_time: ResMut<SmokeEmitTime>,
     mut emitters: Query<(
         &mut SmokeEmitter,
         &ClothParticles,
@@ -134,22 +156,28 @@ fn emit_smoke(
         &ClothTopology,
     )>,
 ) {
+    let started = Instant::now();
     let air = air(&environment);
     for (mut emitter, particles, in_use, topology) in &mut emitters {
         let cloth = BurningCloth::new(particles, in_use.material(), topology, in_use.newly_burnt());
         emitter.sim.emit(&cloth, &air, time.delta_secs());
     }
+    emit_time.0 = started.elapsed();
 }
 
 /// Moves every emitter's live particles, on cloths or not, and holds the entity of an
-/// emitter with particles in the air ([`HoldDespawn`]) until the last one has died.
+/// emitter with particles in the air ([`HoldDespawn`]) until the last one has died; records
+/// the [`SmokeDiagnostics`].
 fn advance_smoke(
     time: Res<Time>,
     environment: Res<ClothEnvironment>,
+    emit_time: Res<SmokeEmitTime>,
+    mut diagnostics: Diagnostics,
     #[cfg(feature = "fluid")] fire: Option<Res<crate::fluid::FirePlume>>,
     mut commands: Commands,
     mut emitters: Query<(Entity, &mut SmokeEmitter, Has<HoldDespawn>)>,
 ) {
+    let started = Instant::now();
     let air = air(&environment);
     #[cfg(feature = "fluid")]
     let plume = fire.as_deref().and_then(crate::fluid::FirePlume::active);
@@ -175,4 +203,12 @@ fn advance_smoke(
             commands.entity(entity).try_remove::<HoldDespawn>();
         }
     }
+    let milliseconds = (emit_time.0 + started.elapsed()).as_secs_f64() * 1e3;
+    diagnostics.add_measurement(&SmokeDiagnostics::STEP, || milliseconds);
+    diagnostics.add_measurement(&SmokeDiagnostics::PARTICLES, || {
+        emitters
+            .iter()
+            .map(|(_, emitter, _)| emitter.sim.pool.live() as f64)
+            .sum()
+    });
 }

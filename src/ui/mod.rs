@@ -15,6 +15,8 @@
 //! validated like the builder; an edit that fails is not applied and the panel says why.
 //! Clicks on the panel do not reach the cloth behind it (bevy_egui's picking capture).
 
+#[cfg(feature = "material_assets")]
+pub mod material_save;
 mod panel;
 pub mod params;
 
@@ -33,7 +35,14 @@ impl Plugin for BurningClothUiPlugin {
         if !app.is_plugin_added::<EguiPlugin>() {
             app.add_plugins(EguiPlugin::default());
         }
-        app.init_resource::<ClothPanel>()
+        let mut panel = ClothPanel::default();
+        #[cfg(feature = "material_assets")]
+        if let Some(assets) = app.get_added_plugins::<bevy::asset::AssetPlugin>().first() {
+            panel.asset_folder = Some(
+                bevy::asset::io::file::FileAssetReader::get_base_path().join(&assets.file_path),
+            );
+        }
+        app.insert_resource(panel)
             .add_observer(select_clicked_cloth)
             .add_systems(EguiPrimaryContextPass, panel::draw_panel)
             .add_systems(
@@ -74,6 +83,17 @@ pub struct ClothPanel {
     pub last_error: Option<String>,
     /// Where the panel was drawn last frame, in logical window pixels (`None` when closed).
     pub screen_rect: Option<Rect>,
+    /// The material file "save" writes, inside the asset folder (filled in for the selected
+    /// cloth when empty: the file its material came from, else `materials/my_<name>.burnmat.ron`).
+    pub material_file: String,
+    /// What the last "save" did.
+    pub save_message: Option<String>,
+    /// The asset folder on disk (Bevy's `AssetPlugin::file_path` under its base path), where
+    /// material files are saved; `None` hides "save" (no `AssetPlugin`, or no
+    /// `material_assets` feature).
+    pub asset_folder: Option<std::path::PathBuf>,
+    /// The cloth `material_file` was filled in for.
+    material_file_cloth: Option<Entity>,
     since_sample: f32,
     random_state: u64,
 }
@@ -89,6 +109,10 @@ impl Default for ClothPanel {
             burnt_history: Vec::with_capacity(HISTORY_LENGTH),
             last_error: None,
             screen_rect: None,
+            material_file: String::new(),
+            save_message: None,
+            asset_folder: None,
+            material_file_cloth: None,
             since_sample: 0.0,
             random_state: 0x9E37_79B9_7F4A_7C15,
         }

@@ -14,6 +14,7 @@ use crate::sim::{
     BurnMaterial, BurnState, ClothBuilder, HeatModel, Integrator, PhysicalHeat, ProvotSettings,
     SpringKind,
 };
+use bevy::diagnostic::DiagnosticsStore;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
@@ -48,6 +49,11 @@ pub(super) struct PanelParams<'w, 's> {
     smoke: Query<'w, 's, &'static mut crate::smoke::SmokeEmitter>,
     #[cfg(feature = "fluid")]
     fire: Option<Res<'w, crate::fluid::FirePlume>>,
+    diagnostics: Option<Res<'w, DiagnosticsStore>>,
+    #[cfg(feature = "material_assets")]
+    material_files: Query<'w, 's, &'static crate::material_file::BurnMaterialFile>,
+    #[cfg(feature = "material_assets")]
+    asset_server: Option<Res<'w, AssetServer>>,
 }
 
 fn cloth_label(entity: Entity, name: Option<&Name>) -> String {
@@ -104,6 +110,7 @@ fn panel_contents(ui: &mut egui::Ui, p: &mut PanelParams) {
         return;
     };
     statistics(ui, p, entity);
+    timings(ui, p.diagnostics.as_deref());
     #[cfg(feature = "fluid")]
     if let Some(fire) = p.fire.as_deref() {
         fire_air(ui, fire);
@@ -245,6 +252,34 @@ fn statistics(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
         });
 }
 
+/// Every `burning_cloth/…` Bevy diagnostic (the numbers `LogDiagnosticsPlugin` logs), smoothed,
+/// sorted by name.
+fn timings(ui: &mut egui::Ui, store: Option<&DiagnosticsStore>) {
+    let Some(store) = store else {
+        return;
+    };
+    egui::CollapsingHeader::new("timings").show(ui, |ui| {
+        let mut ours: Vec<_> = store
+            .iter()
+            .filter_map(|d| {
+                let name = d.path().as_str().strip_prefix("burning_cloth/")?;
+                Some((name, d.smoothed()?, d.suffix.as_ref()))
+            })
+            .collect();
+        ours.sort_by(|a, b| a.0.cmp(b.0));
+        name_value_grid(ui, "diagnostics", |row| {
+            for (name, value, suffix) in ours {
+                let value = if suffix.is_empty() {
+                    format!("{value:.0}")
+                } else {
+                    format!("{value:.2} {suffix}")
+                };
+                row(&name.replace('_', " "), value);
+            }
+        });
+    });
+}
+
 /// A striped two-column grid of names and values; `rows` adds them through `row`.
 fn name_value_grid(ui: &mut egui::Ui, id: &str, rows: impl FnOnce(&mut dyn FnMut(&str, String))) {
     egui::Grid::new(id)
@@ -357,7 +392,17 @@ fn parameters(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
         environment: p.environment.0,
     };
     let mut edited = in_use;
-    material_widgets(ui, &mut edited.material);
+    material_widgets(ui, &mut edited.material, |_ui| {
+        #[cfg(feature = "material_assets")]
+        super::material_save::save_row(
+            _ui,
+            &mut p.panel,
+            entity,
+            &in_use.material,
+            p.material_files.get(entity).ok(),
+            p.asset_server.as_deref(),
+        );
+    });
     solver_widgets(ui, &mut edited.solver);
     world_widgets(ui, &mut edited.environment);
     if let Some(error) = &p.panel.last_error {
@@ -387,7 +432,12 @@ fn slider(ui: &mut egui::Ui, value: &mut f32, range: std::ops::RangeInclusive<f3
     ui.add(egui::Slider::new(value, range).text(label));
 }
 
-fn material_widgets(ui: &mut egui::Ui, material: &mut BurnMaterial) {
+/// The material's preset and sliders, then `below` (the file row) in the same section.
+fn material_widgets(
+    ui: &mut egui::Ui,
+    material: &mut BurnMaterial,
+    below: impl FnOnce(&mut egui::Ui),
+) {
     egui::CollapsingHeader::new("material").show(ui, |ui| {
         egui::ComboBox::from_label("preset")
             .selected_text(material.name)
@@ -414,6 +464,7 @@ fn material_widgets(ui: &mut egui::Ui, material: &mut BurnMaterial) {
                     .text(text),
             );
         }
+        below(ui);
     });
 }
 
