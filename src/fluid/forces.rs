@@ -2,15 +2,18 @@
 //! confinement (Fedkiw, Stam & Jensen 2001), which puts back the swirls that semi-Lagrangian
 //! advection smooths away.
 
+use super::active::ActiveSpans;
 use super::grid::{GridShape, face_mean};
 use glam::Vec3;
 
 /// Adds `impulse (β T − κ s)` to every face, with `T` (excess temperature, K) and `s`
 /// (smoke density) the mean of the face's two cells, `[temperature, smoke]` the fields,
 /// `[β, κ]` the buoyancy (m/(s²·K)) and smoke weight (m/s²), and `impulse` the step times
-/// the unit up vector, s.
+/// the unit up vector, s. Temperature and smoke are zero outside `active` (the spans they
+/// were advected in), so only the faces touching an active cell are visited.
 pub fn add_buoyancy(
     shape: &GridShape,
+    active: &ActiveSpans,
     [temperature, smoke]: [&[f32]; 2],
     impulse: Vec3,
     [buoyancy, smoke_weight]: [f32; 2],
@@ -21,7 +24,7 @@ pub fn add_buoyancy(
         if scale == 0.0 {
             continue;
         }
-        for_each_face(shape, axis, |face, cells| {
+        for_each_active_face(shape, active, axis, |face, cells| {
             let lift = |c: usize| buoyancy * temperature[c] - smoke_weight * smoke[c];
             faces[face] += scale * face_mean(cells, lift);
         });
@@ -70,13 +73,18 @@ pub const CONFINEMENT_FULL_AT: f32 = 20.0;
 /// Adds `dt × ε h w (N × ω)` to the faces, where `ω` is the curl of the centre velocities
 /// `centre`, `N` the unit gradient of `|ω|` and `w = min(1, ΔT / 20 K)` the share of
 /// the plume's heat in the cell: a force that spins up existing vortices at the scale of a
-/// cell, in hot air only.
+/// cell, in hot air only. `[epsilon, dt]`: the confinement strength ε (dimensionless) and the
+/// step, s.
+///
+/// The temperature is zero outside `active` (the spans it was advected in, grown by at least
+/// one cell past any air that was busy), so the force is zero there and the curl is needed
+/// only inside: every pass runs over the spans alone.
 pub fn add_vorticity_confinement(
     shape: &GridShape,
+    active: &ActiveSpans,
     centre: &[Vec<f32>; 3],
     temperature: &[f32],
-    epsilon: f32,
-    dt: f32,
+    [epsilon, dt]: [f32; 2],
     scratch: &mut VorticityScratch,
     velocity: &mut [Vec<f32>; 3],
 ) {
@@ -88,7 +96,7 @@ pub fn add_vorticity_confinement(
         magnitude,
         force,
     } = scratch;
-    for_each_cell(shape, |at, c| {
+    for_each_active_cell(shape, active, |at, c| {
         let d = |field: usize, axis: usize| derivative(shape, &centre[field], at, axis);
         let w = Vec3::new(d(2, 1) - d(1, 2), d(0, 2) - d(2, 0), d(1, 0) - d(0, 1));
         omega[0][c] = w.x;
@@ -97,7 +105,9 @@ pub fn add_vorticity_confinement(
         magnitude[c] = w.length();
     });
     let strength = epsilon * shape.cell;
-    for_each_cell(shape, |at, c| {
+    // Cells outside the spans keep no force from an earlier step.
+    force.iter_mut().for_each(|f| f.fill(0.0));
+    for_each_active_cell(shape, active, |at, c| {
         let weight = (temperature[c].abs() / CONFINEMENT_FULL_AT).min(1.0);
         if weight == 0.0 {
             force[0][c] = 0.0;
@@ -123,20 +133,44 @@ pub fn add_vorticity_confinement(
     });
     for (axis, faces) in velocity.iter_mut().enumerate() {
         let f = &force[axis];
-        for_each_face(shape, axis, |face, cells| {
+        for_each_active_face(shape, active, axis, |face, cells| {
             faces[face] += dt * face_mean(cells, |c| f[c]);
         });
     }
 }
 
-/// Calls `visit([i, j, k], cell)` for every cell.
+/// Calls `visit([i, j, k], cell)` for every cell inside the spans of `active`.
 #[inline]
-pub fn for_each_cell(shape: &GridShape, mut visit: impl FnMut([usize; 3], usize)) {
-    let [nx, ny, nz] = shape.dims;
+fn for_each_active_cell(
+    shape: &GridShape,
+    active: &ActiveSpans,
+    mut visit: impl FnMut([usize; 3], usize),
+) {
+    let [_, ny, nz] = shape.dims;
     for k in 0..nz {
         for j in 0..ny {
-            for i in 0..nx {
+            for i in active.row(shape, j, k) {
                 visit([i, j, k], shape.index(i, j, k));
+            }
+        }
+    }
+}
+
+/// Calls `visit(face, (cell below, cell above))` for every face normal to `axis` that touches
+/// a cell inside the spans of `active`.
+#[inline]
+fn for_each_active_face(
+    shape: &GridShape,
+    active: &ActiveSpans,
+    axis: usize,
+    mut visit: impl FnMut(usize, (Option<usize>, Option<usize>)),
+) {
+    let dims = shape.face_dims(axis);
+    for k in 0..dims[2] {
+        for j in 0..dims[1] {
+            for i in active.face_row(shape, axis, j, k) {
+                let face = i + dims[0] * (j + dims[1] * k);
+                visit(face, shape.face_cells(axis, [i, j, k]));
             }
         }
     }

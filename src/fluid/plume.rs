@@ -379,6 +379,7 @@ impl Plume {
         }
         add_buoyancy(
             &shape,
+            &self.active,
             [&self.temperature, &self.smoke],
             up * dt,
             [self.settings.buoyancy, self.settings.smoke_weight],
@@ -387,10 +388,10 @@ impl Plume {
         centre_velocity(&shape, &self.velocity, &mut self.centre);
         add_vorticity_confinement(
             &shape,
+            &self.active,
             &self.centre,
             &self.temperature,
-            self.settings.vorticity,
-            dt,
+            [self.settings.vorticity, dt],
             &mut self.vorticity,
             &mut self.velocity,
         );

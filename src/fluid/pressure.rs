@@ -205,13 +205,31 @@ impl Level {
             frozen,
             ..
         } = self;
+        let dims = *dims;
+        if pool.is_none_or(|_| x.len() < PARALLEL_CELLS || !cfg!(feature = "parallel")) {
+            // On this thread: in place, as a cell's neighbours are of the other colour.
+            let [nx, ny, nz] = dims;
+            for k in 0..nz {
+                for j in 0..ny {
+                    let first = nx * (j + ny * k);
+                    for i in ((colour + j + k) % 2..nx).step_by(2) {
+                        let c = first + i;
+                        if diag[c] > 0.0 {
+                            let sum = neighbour_sum(dims, couple, x, c, [i, j, k]);
+                            x[c] = (b[c] + sum) / diag[c];
+                        }
+                    }
+                }
+            }
+            return;
+        }
         frozen.copy_from_slice(x);
         let frozen = &*frozen;
-        for_each_row(*dims, x, pool, |first, j, k, row| {
+        for_each_row(dims, x, pool, |first, j, k, row| {
             for i in ((colour + j + k) % 2..row.len()).step_by(2) {
                 let c = first + i;
                 if diag[c] > 0.0 {
-                    let sum = neighbour_sum(*dims, couple, frozen, c, [i, j, k]);
+                    let sum = neighbour_sum(dims, couple, frozen, c, [i, j, k]);
                     row[i] = (b[c] + sum) / diag[c];
                 }
             }
