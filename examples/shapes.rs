@@ -41,7 +41,7 @@ struct Shape {
 fn spawn_rod(mut commands: Commands) {
     // Invisible: only the denim shows it is there.
     commands.spawn((
-        ClothCollider::capsule(1.0, 0.025).with_friction(0.9),
+        ClothCollider::capsule(1.0, 0.025).with_friction(0.999),
         Transform::from_xyz(1.25, 1.05, 0.0)
             .with_rotation(Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)),
     ));

@@ -12,14 +12,50 @@ fn a_tiny_sweep_writes_a_non_empty_csv_and_table() {
     assert_eq!(samples.len(), cloth_rows + sweep.heat_spacings.len());
     for sample in &samples {
         assert!(sample.cost > 0.0, "{sample:?}");
-        assert!(sample.blew_up || sample.error.is_finite(), "{sample:?}");
+        // At 1/480 s and finer every method is inside its stability limit on every problem.
+        assert!(!sample.blew_up && sample.error.is_finite(), "{sample:?}");
     }
-    // At 1/480 s symplectic Euler is inside its stability limit on every problem.
-    assert!(
+    let error = |problem: Problem, method: Integrator, parameter: f32| {
         samples
             .iter()
-            .filter(|s| s.method == Integrator::SymplecticEuler.name())
-            .all(|s| !s.blew_up)
+            .find(|s| s.problem == problem && s.method == method.name() && s.parameter == parameter)
+            .unwrap_or_else(|| panic!("no sample for {problem:?} {method:?} {parameter}"))
+            .error
+    };
+    let [coarse, fine] = [sweep.steps[0], sweep.steps[1]];
+    // Symplectic Euler falling from rest for 1 s lands `g h T / 2` from the exact parabola.
+    for h in [coarse, fine] {
+        let analytic = 9.81 * f64::from(h) * 1.0 / 2.0;
+        let measured = error(Problem::FreeFall, Integrator::SymplecticEuler, h);
+        assert!(
+            (measured / analytic - 1.0).abs() < 0.02,
+            "free fall at h = {h}: {measured} m, analytic {analytic} m"
+        );
+    }
+    // It is first order: halving the step halves the error.
+    for problem in [Problem::Spring, Problem::FreeFall] {
+        let ratio = error(problem, Integrator::SymplecticEuler, coarse)
+            / error(problem, Integrator::SymplecticEuler, fine);
+        assert!(
+            (1.8..2.2).contains(&ratio),
+            "{problem:?}: error ratio {ratio} for half the step"
+        );
+    }
+    // The heat equation's discretisation is second order in space: half the spacing, at
+    // least a quarter of the error.
+    let heat = |spacing: f32| {
+        samples
+            .iter()
+            .find(|s| s.problem == Problem::HeatDiffusion && s.parameter == spacing)
+            .expect("a heat sample")
+            .error
+    };
+    let [wide, narrow] = [sweep.heat_spacings[0], sweep.heat_spacings[1]];
+    assert!(
+        heat(narrow) <= heat(wide) / 4.0,
+        "heat error {} at {wide} m, {} at {narrow} m",
+        heat(wide),
+        heat(narrow)
     );
     let stable = [(
         Integrator::Xpbd,

@@ -178,16 +178,25 @@ impl ClothStatus {
 pub struct ClothCollider {
     /// The shape in the entity's frame.
     pub shape: sim::ColliderShape,
-    /// Fraction of sliding velocity removed on contact per substep, in [0, 1].
+    /// Fraction of the sliding velocity removed per 1/60 s of contact
+    /// ([`FRICTION_PERIOD`](sim::FRICTION_PERIOD)), in [0, 1]: the same over a frame whatever
+    /// the cloth's substeps.
     pub friction: f32,
 }
+
+/// Default friction of spheres and capsules per 1/60 s: what half per substep removed at the
+/// default six substeps a frame (`1 − 0.5⁶`), so the look did not change when friction became
+/// per second.
+const ROUND_FRICTION: f32 = 0.98;
+/// Default friction of a floor per 1/60 s (`1 − 0.4⁶`, as above).
+const FLOOR_FRICTION: f32 = 0.996;
 
 impl ClothCollider {
     /// A sphere of `radius` metres.
     pub fn sphere(radius: f32) -> Self {
         Self {
             shape: sim::ColliderShape::Sphere { radius },
-            friction: 0.5,
+            friction: ROUND_FRICTION,
         }
     }
 
@@ -198,7 +207,7 @@ impl ClothCollider {
                 half_length: 0.5 * length,
                 radius,
             },
-            friction: 0.5,
+            friction: ROUND_FRICTION,
         }
     }
 
@@ -206,7 +215,7 @@ impl ClothCollider {
     pub fn plane() -> Self {
         Self {
             shape: sim::ColliderShape::Plane,
-            friction: 0.6,
+            friction: FLOOR_FRICTION,
         }
     }
 

@@ -2,7 +2,8 @@
 //!
 //! After each substep's integration and Provot correction, every free unburnt particle
 //! inside a collider (plus a margin) is pushed out along the surface normal; its velocity
-//! loses the part going into the surface and a fraction `friction` of its sliding part.
+//! loses the part going into the surface, and its sliding part loses `friction` of itself per
+//! [`FRICTION_PERIOD`] of contact (so the same over a frame whatever the substep count).
 //! Colliders are rigid (their transform's scale is ignored).
 
 use super::particles::Particles;
@@ -52,7 +53,7 @@ pub struct WorldCollider {
     pub shape: ColliderShape,
     /// World from collider frame (rigid).
     pub transform: Affine3A,
-    /// Fraction of sliding velocity removed on contact per substep, in [0, 1].
+    /// Fraction of the sliding velocity removed per [`FRICTION_PERIOD`] of contact, in [0, 1].
     pub friction: f32,
 }
 
@@ -94,9 +95,30 @@ impl WorldCollider {
     }
 }
 
+/// The contact time a collider's `friction` is stated for: one frame at 60 Hz, s.
+pub const FRICTION_PERIOD: f32 = 1.0 / 60.0;
+
+/// The share of its sliding velocity a particle in contact keeps over a substep of `h`
+/// seconds, when it loses `friction` of it per [`FRICTION_PERIOD`]: `(1 − friction)^(h / T)`.
+/// A friction outside [0, 1] is clamped; NaN counts as none.
+pub fn sliding_kept(friction: f32, h: f32) -> f32 {
+    let friction = if friction.is_nan() {
+        0.0
+    } else {
+        friction.clamp(0.0, 1.0)
+    };
+    (1.0 - friction).powf(h.max(0.0) / FRICTION_PERIOD)
+}
+
 /// Pushes every free, unburnt particle out of every collider to at least `margin` metres
-/// from its surface, removing inward velocity and `friction` of the sliding velocity.
-pub fn resolve_collisions(particles: &mut Particles, colliders: &[WorldCollider], margin: f32) {
+/// from its surface, removing inward velocity and, over this substep of `h` seconds, the
+/// collider's friction of the sliding velocity ([`sliding_kept`]).
+pub fn resolve_collisions(
+    particles: &mut Particles,
+    colliders: &[WorldCollider],
+    margin: f32,
+    h: f32,
+) {
     if colliders.is_empty() {
         return;
     }
@@ -113,8 +135,8 @@ pub fn resolve_collisions(particles: &mut Particles, colliders: &[WorldCollider]
             let velocity = particles.velocity[i];
             let normal_speed = velocity.dot(normal);
             let tangential = velocity - normal * normal_speed;
-            let friction = collider.friction.clamp(0.0, 1.0);
-            particles.velocity[i] = tangential * (1.0 - friction) + normal * normal_speed.max(0.0);
+            let kept = sliding_kept(collider.friction, h);
+            particles.velocity[i] = tangential * kept + normal * normal_speed.max(0.0);
         }
     }
 }
@@ -180,6 +202,9 @@ mod tests {
         }
     }
 
+    /// A rod's grip per 1/60 s: what 0.8 per substep was at six substeps a frame.
+    const ROD_FRICTION: f32 = 0.99;
+
     #[test]
     fn a_cloth_dropped_on_a_rod_drapes_over_it() {
         let mut sim = ClothSim::new(
@@ -194,7 +219,7 @@ mod tests {
                 radius: 0.03,
             },
             transform: Affine3A::from_rotation_x(core::f32::consts::FRAC_PI_2),
-            friction: 0.8,
+            friction: ROD_FRICTION,
         };
         sim.colliders.push(rod);
         for _ in 0..180 {
@@ -212,5 +237,57 @@ mod tests {
         for &p in &sim.particles.position {
             assert!(rod.distance(p).0 >= margin - 1e-3);
         }
+    }
+
+    /// Mean horizontal speed of a cloth resting on a floor of `friction` after it is pushed
+    /// sideways at 1 m/s and left for three frames, stepped at `substep_rate` (XPBD) or by
+    /// symplectic Euler.
+    fn sliding_speed(friction: f32, substep_rate: f32, integrator: crate::sim::Integrator) -> f32 {
+        let mut sim = ClothSim::new(
+            &ClothBuilder::grid(8, 8, 0.05).in_plane(GridPlane::Horizontal),
+            BurnMaterial::COTTON,
+            Affine3A::from_translation(Vec3::new(0.0, 0.02, 0.0)),
+        )
+        .unwrap();
+        sim.update_settings(|s| {
+            s.solver.integrator = integrator;
+            s.solver.substep_rate = substep_rate;
+        })
+        .unwrap();
+        sim.colliders.push(WorldCollider {
+            shape: ColliderShape::Plane,
+            transform: Affine3A::IDENTITY,
+            friction,
+        });
+        for _ in 0..60 {
+            sim.step(1.0 / 60.0);
+        }
+        sim.particles.velocity.fill(Vec3::X);
+        for _ in 0..3 {
+            sim.step(1.0 / 60.0);
+        }
+        let v = &sim.particles.velocity;
+        v.iter().map(|v| v.x).sum::<f32>() / v.len() as f32
+    }
+
+    #[test]
+    fn friction_takes_the_same_share_per_second_at_any_substep_count() {
+        use crate::sim::Integrator;
+        // 10 % per 1/60 s over three frames keeps 0.9³ = 0.729 of what sliding without
+        // friction keeps (air drag and the cloth's own motion are the same in both).
+        for (rate, integrator) in [
+            (360.0, Integrator::Xpbd),
+            (1440.0, Integrator::Xpbd),
+            (360.0, Integrator::SymplecticEuler),
+        ] {
+            let ratio = sliding_speed(0.1, rate, integrator) / sliding_speed(0.0, rate, integrator);
+            assert!(
+                (ratio - 0.729).abs() < 0.03,
+                "{integrator:?} at {rate} substeps/s kept {ratio} of its sliding speed"
+            );
+        }
+        assert_eq!(sliding_kept(0.5, FRICTION_PERIOD), 0.5);
+        assert_eq!(sliding_kept(f32::NAN, 0.01), 1.0);
+        assert_eq!(sliding_kept(2.0, 0.01), 0.0);
     }
 }

@@ -76,7 +76,7 @@ pub mod xpbd;
 
 pub use anchors::{Anchors, DetachedPiece};
 pub use cloth::ClothSim;
-pub use collision::{ColliderShape, WorldCollider};
+pub use collision::{ColliderShape, FRICTION_PERIOD, WorldCollider, sliding_kept};
 pub use combustion::CombustionReport;
 pub use error::ClothError;
 pub use forces::ForceParams;

@@ -391,7 +391,7 @@ impl ClothMut<'_> {
                     h,
                 )
             });
-            resolve_collisions(self.particles, inputs.colliders, margin);
+            resolve_collisions(self.particles, inputs.colliders, margin, h);
         }
         self.particles.external_force.fill(Vec3::ZERO);
         let repaired = workspace.guard.check(

@@ -10,7 +10,7 @@ use super::adjacency::Adjacency;
 use super::kernel::{Arrays, RunData, project_indexed, project_shared, project_split};
 use super::lanes::{Band, GridLanes, GridSlots, Lane};
 use crate::sim::anchors::Anchors;
-use crate::sim::collision::WorldCollider;
+use crate::sim::collision::{WorldCollider, sliding_kept};
 use crate::sim::forces::ForceParams;
 use crate::sim::guard::GuardSettings;
 use crate::sim::parallel::{for_each_part, parts_for, pieces};
@@ -980,7 +980,7 @@ impl<'a> SlotChunk<'a> {
                 self.tethers();
             }
             if !step.colliders.is_empty() {
-                self.collide(step.colliders, step.margin);
+                self.collide(step.colliders, step.margin, step.h);
             }
         }
         match phase {
@@ -1047,8 +1047,9 @@ impl<'a> SlotChunk<'a> {
         }
     }
 
-    /// Pushes free particles out of colliders, taking `friction` of their sliding motion.
-    fn collide(&mut self, colliders: &[WorldCollider], margin: f32) {
+    /// Pushes free particles out of colliders, taking each collider's friction of their
+    /// sliding motion over this substep of `h` seconds ([`sliding_kept`]).
+    fn collide(&mut self, colliders: &[WorldCollider], margin: f32, h: f32) {
         for s in 0..self.free.len() {
             if self.free[s] == 0.0 {
                 continue;
@@ -1062,7 +1063,7 @@ impl<'a> SlotChunk<'a> {
                 }
                 let pushed = u + normal * (margin - distance);
                 let sliding = pushed - normal * pushed.dot(normal);
-                let moved = pushed - sliding * collider.friction.clamp(0.0, 1.0);
+                let moved = pushed - sliding * (1.0 - sliding_kept(collider.friction, h));
                 for axis in 0..3 {
                     self.u[axis][s] = moved[axis];
                 }
