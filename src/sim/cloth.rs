@@ -206,7 +206,8 @@ impl ClothSim {
         let springs = (s.a.capacity() + s.b.capacity()) * size_of::<u32>()
             + (s.rest_length.capacity() + s.initial_rest_length.capacity()) * size_of::<f32>()
             + s.kind.capacity()
-            + s.spans.capacity() * size_of::<[u32; 2]>();
+            + s.spans.capacity() * size_of::<[u32; 2]>()
+            + s.span_rule.capacity() * size_of::<super::springs::SpanRule>();
         let t = &self.topology;
         let topology = t.triangles.capacity() * size_of::<[u32; 3]>()
             + t.uv.capacity() * size_of::<glam::Vec2>()

@@ -13,6 +13,8 @@
 use super::combustion::CombustionReport;
 use super::material::BurnMaterial;
 use super::particles::{BurnState, Particles};
+#[cfg(test)]
+use super::springs::SpanRule;
 use super::springs::{NO_SPAN, SpringCoefficients, SpringKind, Springs};
 use super::topology::Topology;
 
@@ -314,16 +316,16 @@ impl Front {
         self.shrinking_at[spring] = NONE;
     }
 
-    /// Cuts the live springs that pass over the particles in `newly_burnt` (a bending spring
-    /// would otherwise hold across the gap): each one's second end is moved to the burnt
-    /// particle it spanned, which makes it dead for every loop that checks its ends. Returns
+    /// Cuts the live springs that pass over the particles in `newly_burnt` (a bending or shear
+    /// spring would otherwise hold across the gap), by each spring's [`SpanRule`](super::springs::SpanRule): each one's
+    /// second end is moved to the burnt particle it spanned, which makes it dead for every loop that checks its ends. Returns
     /// how many were cut.
     pub fn sever(&self, springs: &mut Springs, state: &[BurnState], newly_burnt: &[u32]) -> u32 {
         let mut cut = 0;
         for &burnt in newly_burnt {
             for &s in self.springs_of.of(burnt as usize) {
                 let s = s as usize;
-                if springs.spans[s].contains(&burnt) && springs.is_live(s, state) {
+                if springs.is_live(s, state) && springs.cut_by(s, burnt, state) {
                     springs.b[s] = burnt;
                     cut += 1;
                 }
@@ -558,7 +560,7 @@ mod tests {
     fn a_burnt_particle_cuts_the_springs_over_it_and_leaves_the_drawn_list() {
         let material = BurnMaterial::COTTON;
         let (mut particles, mut springs) = row(3, &material, &[(0, 1, SpringKind::Structural)]);
-        springs.push_spanning(0, 2, 0.1, SpringKind::Bend, [1, 1]);
+        springs.push_spanning([0, 2], 0.1, SpringKind::Bend, [1, 1], SpanRule::Either);
         let mut topology = Topology {
             triangles: vec![[0, 1, 2], [0, 2, 1]],
             ..Topology::default()
@@ -576,5 +578,60 @@ mod tests {
         );
         front.cull(&mut topology, &burnt);
         assert_eq!(topology.live_triangle_count(), 0);
+    }
+
+    /// A 4 x 4 cotton cloth after one frame in which `burn` were raised past the burnt
+    /// temperature, and the index of its shear spring from `a` to `b` (grid columns, rows).
+    fn cloth_with_burnt(
+        burn: &[(u32, u32)],
+        [a, b]: [(u32, u32); 2],
+    ) -> (crate::sim::ClothSim, usize) {
+        use crate::sim::{ClothBuilder, ClothSim, SpringKind};
+        let mut sim = ClothSim::new(
+            &ClothBuilder::grid(4, 4, 0.1).pin_top_corners(),
+            BurnMaterial::COTTON,
+            glam::Affine3A::IDENTITY,
+        )
+        .unwrap();
+        let grid = sim.topology.grid.unwrap();
+        let [a, b] = [a, b].map(|(c, r)| grid.index(c, r) as u32);
+        let spring = (0..sim.springs.len())
+            .find(|&s| {
+                sim.springs.kind[s] == SpringKind::Shear
+                    && sim.springs.a[s] == a
+                    && sim.springs.b[s] == b
+            })
+            .expect("the diagonal");
+        let hot = BurnMaterial::COTTON.burnt_temperature + 100.0;
+        for &(c, r) in burn {
+            let i = grid.index(c, r);
+            sim.particles.temperature[i] = hot;
+            sim.particles.state[i] = BurnState::Ignited;
+        }
+        sim.step(1.0 / 60.0);
+        for &(c, r) in burn {
+            assert!(sim.particles.state[grid.index(c, r)].is_burnt());
+        }
+        (sim, spring)
+    }
+
+    #[test]
+    fn a_cells_diagonal_is_cut_when_the_cloth_along_it_has_burnt() {
+        // Cell (1, 1): its drawn diagonal rises from top right (2, 1) to bottom left (1, 2),
+        // an edge of both its triangles; the falling one, (1, 1) to (2, 2), crosses it.
+        let rising = [(2, 1), (1, 2)];
+        let falling = [(1, 1), (2, 2)];
+        // One of the drawn diagonal's other corners gone: the other triangle still holds it.
+        let (sim, s) = cloth_with_burnt(&[(1, 1)], rising);
+        assert!(sim.springs.is_live(s, &sim.particles.state));
+        // Both gone: no cloth along it, it is cut.
+        let (sim, s) = cloth_with_burnt(&[(1, 1), (2, 2)], rising);
+        assert!(!sim.springs.is_live(s, &sim.particles.state));
+        // The crossing diagonal needs both triangles: one corner of the drawn one gone cuts it.
+        let (sim, s) = cloth_with_burnt(&[(2, 1)], falling);
+        assert!(!sim.springs.is_live(s, &sim.particles.state));
+        // Its own ends intact and no spanned corner burnt elsewhere: it stays.
+        let (sim, s) = cloth_with_burnt(&[(0, 3)], falling);
+        assert!(sim.springs.is_live(s, &sim.particles.state));
     }
 }

@@ -3,7 +3,7 @@
 use super::error::ClothError;
 use super::material::BurnMaterial;
 use super::particles::{BurnState, Particles};
-use super::springs::{SpringKind, Springs};
+use super::springs::{NO_SPAN, SpanRule, SpringKind, Springs};
 use super::topology::{GridShape, Topology};
 use bevy::reflect::{Reflect, std_traits::ReflectDefault};
 use glam::{Affine3A, Vec2, Vec3};
@@ -314,25 +314,53 @@ impl ClothBuilder {
 fn grid_springs(grid: GridShape, position: &[Vec3]) -> Springs {
     let mut springs = Springs::default();
     let (columns, rows) = (grid.columns, grid.rows);
-    let mut add = |a: usize, b: usize, kind| {
+    let mut add = |[a, b]: [usize; 2], kind, spans: [usize; 2], rule| {
         let rest = position[a].distance(position[b]);
-        springs.push(a as u32, b as u32, rest, kind);
+        let spans = spans.map(|p| if p == usize::MAX { NO_SPAN } else { p as u32 });
+        springs.push_spanning([a as u32, b as u32], rest, kind, spans, rule);
     };
+    let none = [usize::MAX; 2];
     for row in 0..rows {
         for column in 0..columns {
             let here = grid.index(column, row);
             if column + 1 < columns {
-                add(here, grid.index(column + 1, row), SpringKind::Structural);
+                let east = grid.index(column + 1, row);
+                add([here, east], SpringKind::Structural, none, SpanRule::Either);
             }
             if row + 1 < rows {
-                add(here, grid.index(column, row + 1), SpringKind::Structural);
+                let south = grid.index(column, row + 1);
+                add(
+                    [here, south],
+                    SpringKind::Structural,
+                    none,
+                    SpanRule::Either,
+                );
             }
             if column + 1 < columns && row + 1 < rows {
-                add(here, grid.index(column + 1, row + 1), SpringKind::Shear);
+                // Each diagonal spans the cell's other two corners. The drawn diagonal
+                // (`grid_triangles`) is an edge of both triangles, each holding one of them:
+                // cut once both have burnt. The other crosses it, and both triangles hold its
+                // spanned corners: cut when either burns.
+                let [top_left, top_right] = [here, grid.index(column + 1, row)];
+                let [bottom_left, bottom_right] =
+                    [grid.index(column, row + 1), grid.index(column + 1, row + 1)];
+                let falling_drawn = (row + column) % 2 == 1;
+                let [falling_rule, rising_rule] = if falling_drawn {
+                    [SpanRule::Both, SpanRule::Either]
+                } else {
+                    [SpanRule::Either, SpanRule::Both]
+                };
                 add(
-                    grid.index(column + 1, row),
-                    grid.index(column, row + 1),
+                    [top_left, bottom_right],
                     SpringKind::Shear,
+                    [top_right, bottom_left],
+                    falling_rule,
+                );
+                add(
+                    [top_right, bottom_left],
+                    SpringKind::Shear,
+                    [top_left, bottom_right],
+                    rising_rule,
                 );
             }
         }
@@ -341,22 +369,13 @@ fn grid_springs(grid: GridShape, position: &[Vec3]) -> Springs {
     for row in 0..rows {
         for column in 0..columns {
             let here = grid.index(column, row);
-            let mut bend = |far: usize, middle: usize| {
-                let rest = position[here].distance(position[far]);
-                let middle = middle as u32;
-                springs.push_spanning(
-                    here as u32,
-                    far as u32,
-                    rest,
-                    SpringKind::Bend,
-                    [middle, middle],
-                );
-            };
             if column + 2 < columns {
-                bend(grid.index(column + 2, row), grid.index(column + 1, row));
+                let [far, middle] = [grid.index(column + 2, row), grid.index(column + 1, row)];
+                add([here, far], SpringKind::Bend, [middle; 2], SpanRule::Either);
             }
             if row + 2 < rows {
-                bend(grid.index(column, row + 2), grid.index(column, row + 1));
+                let [far, middle] = [grid.index(column, row + 2), grid.index(column, row + 1)];
+                add([here, far], SpringKind::Bend, [middle; 2], SpanRule::Either);
             }
         }
     }

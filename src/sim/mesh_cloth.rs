@@ -10,7 +10,7 @@ use super::error::ClothError;
 use super::grid::{ClothParts, MAX_PARTICLES};
 use super::material::BurnMaterial;
 use super::particles::{BurnState, Particles};
-use super::springs::{SpringKind, Springs};
+use super::springs::{SpanRule, SpringKind, Springs};
 use super::topology::{Topology, cull_triangles};
 use bevy::reflect::{Reflect, std_traits::ReflectDefault};
 use glam::{Affine3A, Vec2, Vec3};
@@ -365,11 +365,11 @@ fn mesh_springs(triangles: &[[u32; 3]], position: &[Vec3]) -> Springs {
     bends.dedup_by_key(|(p, q, _)| (*p, *q));
     for (p, q, edge) in bends {
         springs.push_spanning(
-            p,
-            q,
+            [p, q],
             position[p as usize].distance(position[q as usize]),
             SpringKind::Bend,
             edge,
+            SpanRule::Either,
         );
     }
     springs

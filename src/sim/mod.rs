@@ -90,7 +90,7 @@ pub use particles::{BurnState, Particles};
 pub use provot::ProvotSettings;
 pub use settings::{ClothSettings, Environment, HeatModel, PhysicalHeat, SolverSettings, StepPlan};
 pub use spatial_hash::SpatialHash;
-pub use springs::{SpringCoefficients, SpringKind, Springs};
+pub use springs::{SpanRule, SpringCoefficients, SpringKind, Springs};
 pub use step::{ClothMut, PhaseTimes, StepInputs, StepOutcome, StepReport};
 pub use topology::{GridShape, Topology};
 pub use workspace::ClothWorkspace;

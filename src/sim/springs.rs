@@ -48,10 +48,25 @@ pub struct Springs {
     /// burns, the cloth the spring stood for is gone and the combustion phase cuts it (moves
     /// its second end to the burnt particle, so every loop that checks its ends finds it dead).
     pub spans: Vec<[u32; 2]>,
+    /// When a spring's spanned particles cut it: as soon as either burns, or once both have.
+    pub span_rule: Vec<SpanRule>,
 }
 
 /// No spanned particle.
 pub const NO_SPAN: u32 = u32::MAX;
+
+/// Which burnt spanned particles cut a spring.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SpanRule {
+    /// Either spanned particle burning cuts it: the cloth it stands for needs both (a bending
+    /// spring's middle; a grid cell's diagonal that crosses the cell's drawn diagonal, whose
+    /// two triangles both hold the spanned corners; a mesh bending spring's shared edge).
+    #[default]
+    Either,
+    /// It is cut once both have burnt: either alone leaves cloth along it (a grid cell's drawn
+    /// diagonal, an edge of both the cell's triangles, each holding one spanned corner).
+    Both,
+}
 
 impl Springs {
     /// Number of springs.
@@ -72,13 +87,38 @@ impl Springs {
         self.initial_rest_length.push(rest);
         self.kind.push(kind);
         self.spans.push([NO_SPAN; 2]);
+        self.span_rule.push(SpanRule::Either);
     }
 
-    /// Adds a spring that passes over the particles `spans` (use [`NO_SPAN`] for none).
-    pub fn push_spanning(&mut self, a: u32, b: u32, rest: f32, kind: SpringKind, spans: [u32; 2]) {
+    /// Adds a spring that passes over the particles `spans` (use [`NO_SPAN`] for none), cut
+    /// when they burn by `rule`.
+    pub fn push_spanning(
+        &mut self,
+        [a, b]: [u32; 2],
+        rest: f32,
+        kind: SpringKind,
+        spans: [u32; 2],
+        rule: SpanRule,
+    ) {
         self.push(a, b, rest, kind);
-        if let Some(last) = self.spans.last_mut() {
+        if let (Some(last), Some(last_rule)) = (self.spans.last_mut(), self.span_rule.last_mut()) {
             *last = spans;
+            *last_rule = rule;
+        }
+    }
+
+    /// Whether spring `s` is to be cut now that `burnt` (one of its spanned particles) has
+    /// burnt, by its [`SpanRule`].
+    pub fn cut_by(&self, s: usize, burnt: u32, state: &[BurnState]) -> bool {
+        let [first, second] = self.spans[s];
+        if first != burnt && second != burnt {
+            return false;
+        }
+        match self.span_rule[s] {
+            SpanRule::Either => true,
+            SpanRule::Both => [first, second]
+                .iter()
+                .all(|&p| p != NO_SPAN && state[p as usize].is_burnt()),
         }
     }
 

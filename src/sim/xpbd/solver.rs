@@ -1165,7 +1165,7 @@ impl Factors<'_> {
 
 /// The lane layout of a grid cloth, if its springs are the grid's springs: each lane element
 /// that stands for a spring is matched to the stored spring with the same ends (first end
-/// first; a cut bending spring by the particle it spans). `None` when a spring is missing,
+/// first; a cut bending or shear spring by the particles it spans). `None` when a spring is missing,
 /// reversed or left over, so hand-made springs fall back to the indexed layout.
 fn grid_layout(grid: GridShape, springs: &Springs, particles: usize) -> Option<Layout> {
     if (grid.columns * grid.rows) as usize != particles {
@@ -1185,12 +1185,19 @@ fn grid_layout(grid: GridShape, springs: &Springs, particles: usize) -> Option<L
                 continue;
             };
             let (a, b) = (grid.index(ca, ra) as u32, grid.index(cb, rb) as u32);
-            let middle = grid.index((ca + cb) / 2, (ra + rb) / 2) as u32;
+            // What the spring spans, which still names it once a cut has moved its second end.
+            let spans = match lane.kind {
+                SpringKind::Bend => {
+                    let middle = grid.index((ca + cb) / 2, (ra + rb) / 2) as u32;
+                    Some([middle, middle])
+                }
+                SpringKind::Shear => Some([grid.index(cb, ra) as u32, grid.index(ca, rb) as u32]),
+                SpringKind::Structural => None,
+            };
             let found = by_end.of(a as usize).iter().copied().find(|&s| {
                 let s = s as usize;
                 springs.kind[s] == lane.kind
-                    && (springs.b[s] == b
-                        || (lane.kind == SpringKind::Bend && springs.spans[s][0] == middle))
+                    && (springs.b[s] == b || spans == Some(springs.spans[s]))
             })?;
             spring[(lane.first + k) as usize] = found;
             matched += 1;
