@@ -167,13 +167,25 @@ fn orbit_camera(
     buttons: Res<ButtonInput<MouseButton>>,
     motion: Res<AccumulatedMouseMotion>,
     scroll: Res<AccumulatedMouseScroll>,
+    #[cfg_attr(not(feature = "egui"), allow(unused_variables))] windows: Query<&Window>,
+    #[cfg(feature = "egui")] panel: Option<Res<bevy_burning_cloth::ui::ClothPanel>>,
     mut cameras: Query<&mut Transform, With<Camera3d>>,
 ) {
+    // The wheel over the control panel scrolls the panel, not the camera.
+    #[cfg(feature = "egui")]
+    let over_panel = panel
+        .and_then(|p| p.screen_rect)
+        .zip(windows.iter().next().and_then(Window::cursor_position))
+        .is_some_and(|(rect, cursor)| rect.contains(cursor));
+    #[cfg(not(feature = "egui"))]
+    let over_panel = false;
     if buttons.pressed(MouseButton::Right) {
         orbit.yaw -= motion.delta.x * 0.005;
         orbit.pitch = (orbit.pitch + motion.delta.y * 0.005).clamp(-1.4, 1.4);
     }
-    orbit.distance = (orbit.distance * (1.0 - scroll.delta.y * 0.1)).clamp(0.5, 30.0);
+    if !over_panel {
+        orbit.distance = (orbit.distance * (1.0 - scroll.delta.y * 0.1)).clamp(0.5, 30.0);
+    }
     for mut transform in &mut cameras {
         *transform = orbit.transform();
     }
