@@ -43,7 +43,7 @@ fn exchange_rate(
     springs: &Springs,
     s: usize,
     position: &[Vec3],
-    temperature: &[f32],
+    temperature: Option<&[f32]>,
     state: &[BurnState],
     heat: &PhysicalHeat,
     up: Vec3,
@@ -61,26 +61,26 @@ fn exchange_rate(
     }
     let mut rate = heat.diffusivity / (rest * rest);
     if heat.convection > 0.0 {
-        // The hotter end's heat climbs if the cooler end is above it.
-        let (hot, cold) = if temperature[a] >= temperature[b] {
-            (a, b)
-        } else {
-            (b, a)
+        // The hotter end's heat climbs if the cooler end is above it. `temperature` `None`:
+        // the larger of the two orientations (a bound that holds however they flip).
+        let rise = (position[b] - position[a]).normalize_or_zero().dot(up);
+        let climb = match temperature {
+            Some(t) if t[a] >= t[b] => rise.max(0.0),
+            Some(_) => (-rise).max(0.0),
+            None => rise.abs(),
         };
-        let rise = (position[cold] - position[hot]).normalize_or_zero().dot(up);
-        rate += heat.convection * (REFERENCE_SPACING / rest) * rise.max(0.0);
+        rate += heat.convection * (REFERENCE_SPACING / rest) * climb;
     }
     Some((a, b, rate))
 }
 
 /// The largest stable, non-overshooting explicit step for the exchange terms, s (infinite
-/// when nothing exchanges heat). `scratch` is reused.
-#[allow(clippy::too_many_arguments)]
+/// when nothing exchanges heat), whichever way each spring's ends are hot and cold (so it
+/// holds when they swap within a frame). `scratch` is reused.
 pub fn conduction_stable_step(
     springs: &Springs,
     position: &[Vec3],
     mass: &[f32],
-    temperature: &[f32],
     state: &[BurnState],
     heat: &PhysicalHeat,
     up: Vec3,
@@ -89,9 +89,7 @@ pub fn conduction_stable_step(
     scratch.clear();
     scratch.resize(mass.len(), 0.0);
     for s in 0..springs.len() {
-        if let Some((a, b, rate)) =
-            exchange_rate(springs, s, position, temperature, state, heat, up)
-        {
+        if let Some((a, b, rate)) = exchange_rate(springs, s, position, None, state, heat, up) {
             let shared = 0.5 * (mass[a] + mass[b]);
             scratch[a] += rate * shared / mass[a];
             scratch[b] += rate * shared / mass[b];
@@ -105,9 +103,15 @@ pub fn conduction_stable_step(
     }
 }
 
+/// Most substeps one [`conduction_step`] takes; past it each substep is longer than stable and
+/// the exchange is limited so it stays monotone.
+pub const MAX_CONDUCTION_SUBSTEPS: u32 = 1000;
+
 /// Advances temperatures `h` seconds under the physical model, in as many explicit substeps
-/// as stability needs (at most 1000; beyond that the step is clamped and stays monotone).
-/// Returns the substeps used. `delta` is scratch, reused.
+/// as stability needs (at most [`MAX_CONDUCTION_SUBSTEPS`]; past it, each particle's exchange
+/// is limited to the range of its own and its neighbours' temperatures, so no particle
+/// overshoots). Returns the substeps used. `scratch` is reused (three arrays of one value per
+/// particle: the exchange and the neighbours' lowest and highest temperatures).
 #[allow(clippy::too_many_arguments)]
 pub fn conduction_step(
     springs: &Springs,
@@ -117,47 +121,55 @@ pub fn conduction_step(
     state: &[BurnState],
     heat: &PhysicalHeat,
     air: Air,
-    delta: &mut Vec<f32>,
+    scratch: &mut Vec<f32>,
     h: f32,
 ) -> u32 {
     if !(h.is_finite() && h > 0.0) {
         return 0;
     }
-    let stable = conduction_stable_step(
-        springs,
-        position,
-        mass,
-        temperature,
-        state,
-        heat,
-        air.up,
-        delta,
-    );
-    let substeps = if stable.is_finite() {
-        ((h / (0.9 * stable)).ceil() as u32).clamp(1, 1000)
+    let stable = conduction_stable_step(springs, position, mass, state, heat, air.up, scratch);
+    let wanted = if stable.is_finite() {
+        (h / (0.9 * stable)).ceil()
     } else {
-        1
+        1.0
     };
+    let substeps = (wanted as u32).clamp(1, MAX_CONDUCTION_SUBSTEPS);
+    let limited = wanted > MAX_CONDUCTION_SUBSTEPS as f32;
     let sub_h = h / substeps as f32;
     let keep = (-heat.cooling * sub_h).exp();
+    let n = temperature.len();
     for _ in 0..substeps {
-        delta.clear();
-        delta.resize(temperature.len(), 0.0);
+        scratch.clear();
+        scratch.resize(3 * n, 0.0);
+        let (delta, range) = scratch.split_at_mut(n);
+        let (lo, hi) = range.split_at_mut(n);
+        if limited {
+            lo.copy_from_slice(temperature);
+            hi.copy_from_slice(temperature);
+        }
         for s in 0..springs.len() {
             if let Some((a, b, rate)) =
-                exchange_rate(springs, s, position, temperature, state, heat, air.up)
+                exchange_rate(springs, s, position, Some(temperature), state, heat, air.up)
             {
                 let flux = rate * 0.5 * (mass[a] + mass[b]) * (temperature[b] - temperature[a]);
                 delta[a] += flux;
                 delta[b] -= flux;
+                if limited {
+                    lo[a] = lo[a].min(temperature[b]);
+                    hi[a] = hi[a].max(temperature[b]);
+                    lo[b] = lo[b].min(temperature[a]);
+                    hi[b] = hi[b].max(temperature[a]);
+                }
             }
         }
-        for i in 0..temperature.len() {
+        for i in 0..n {
             if state[i].is_burnt() {
                 continue;
             }
-            // A step past the stable limit (the 1000 cap) is clamped to stay monotone.
             let mut t = temperature[i] + sub_h * delta[i] / mass[i];
+            if limited {
+                t = t.max(lo[i]).min(hi[i]);
+            }
             if state[i].is_ignited() {
                 t += heat.burn_heating * sub_h;
             }
@@ -316,29 +328,50 @@ mod tests {
         assert_eq!(temperature[burnt], 5.0);
     }
 
-    #[test]
-    fn stiff_step_is_split_and_stays_monotone() {
+    /// A 1 mm grid at 20 °C with one particle at 1000 °C after `h` seconds of pure
+    /// diffusion at `diffusivity`: the temperatures and the substeps used.
+    fn hot_spot_after(diffusivity: f32, h: f32) -> (Vec<f32>, u32) {
         let parts = flat_grid(8, 0.001);
         let p = &parts.particles;
         let mut temperature = vec![20.0; p.len()];
         temperature[27] = 1000.0;
-        let mut delta = Vec::new();
+        let mut scratch = Vec::new();
         let used = conduction_step(
             &parts.springs,
             &p.position,
             &p.mass,
             &mut temperature,
             &p.state,
-            &diffusion_only(1e-3),
+            &diffusion_only(diffusivity),
             AIR,
-            &mut delta,
-            0.1,
+            &mut scratch,
+            h,
         );
+        (temperature, used)
+    }
+
+    #[test]
+    fn stiff_step_is_split_and_stays_monotone() {
+        let (temperature, used) = hot_spot_after(1e-3, 0.1);
         assert!(used > 1);
         assert!(
             temperature
                 .iter()
                 .all(|t| (20.0 - 1e-3..=1000.0).contains(t))
         );
+    }
+
+    #[test]
+    fn a_step_past_the_substep_cap_stays_monotone() {
+        // A diffusivity of 1e-2 m²/s for a whole second: about 10⁵ substeps would be stable,
+        // far past the cap.
+        let (temperature, used) = hot_spot_after(1e-2, 1.0);
+        assert_eq!(used, MAX_CONDUCTION_SUBSTEPS);
+        for t in &temperature {
+            assert!(
+                (20.0 - 1e-3..=1000.0 + 1e-3).contains(t),
+                "{t} outside 20..1000"
+            );
+        }
     }
 }
