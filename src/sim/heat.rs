@@ -196,22 +196,18 @@ pub fn paper_heat_push(
     }
 }
 
-/// Adds one step of proximity heating to the workspace's increments: every unburnt particle
-/// within `params.proximity_radius` of a particle on fire gains heat, weighted by direction
-/// like the grid push and falling linearly to zero at the radius. Only the particles inside
-/// the fire's bounding box (grown by the radius) are hashed.
-pub fn proximity_heat_push(
+/// Calls `visit(i, j, weight)` for every burning particle `i` and unburnt particle `j ≠ i`
+/// within `params.proximity_radius` of it, with `weight` the direction weight of the grid push
+/// times a linear fall to zero at the radius. Only the particles inside the fire's bounding
+/// box (grown by the radius) are hashed.
+fn for_each_near_fire(
     front: &Front,
     particles: &Particles,
     params: &HeatParams,
-    h: f32,
     workspace: &mut HeatWorkspace,
+    mut visit: impl FnMut(&mut HeatWorkspace, usize, usize, f32),
 ) {
-    let (position, temperature, state) = (
-        &particles.position,
-        &particles.temperature,
-        &particles.state,
-    );
+    let (position, state) = (&particles.position, &particles.state);
     let radius = params.proximity_radius;
     if !(radius > 0.0 && radius.is_finite()) || front.ignited().is_empty() {
         return;
@@ -228,26 +224,77 @@ pub fn proximity_heat_push(
     workspace.hash.build(position, radius, |j| {
         !state[j].is_burnt() && inside(position[j])
     });
-    let scale = params.proximity_rate * h;
     let hash = core::mem::take(&mut workspace.hash);
     for &i in front.ignited() {
         let i = i as usize;
         if !state[i].is_ignited() {
             continue;
         }
-        let excess = (temperature[i] - params.initial_temperature).max(0.0);
         hash.for_each_within(position, position[i], radius, |j| {
             if j == i {
                 return;
             }
             let offset = position[j] - position[i];
-            let distance = offset.length();
             let cos_up = offset.normalize_or_zero().dot(params.up);
-            let falloff = 1.0 - distance / radius;
-            workspace.add(j, direction_weight(cos_up) * scale * excess * falloff);
+            let falloff = 1.0 - offset.length() / radius;
+            visit(workspace, i, j, direction_weight(cos_up) * falloff);
         });
     }
     workspace.hash = hash;
+}
+
+/// Adds one step of the paper's proximity heating to the workspace's increments: every
+/// unburnt particle within `params.proximity_radius` of a particle on fire gains
+/// `rate × h × weight × (T_fire − T_initial)`, as the grid push does (the source loses
+/// nothing: the paper's model adds heat).
+pub fn proximity_heat_push(
+    front: &Front,
+    particles: &Particles,
+    params: &HeatParams,
+    h: f32,
+    workspace: &mut HeatWorkspace,
+) {
+    let scale = params.proximity_rate * h;
+    let temperature = &particles.temperature;
+    for_each_near_fire(
+        front,
+        particles,
+        params,
+        workspace,
+        |workspace, i, j, weight| {
+            let excess = (temperature[i] - params.initial_temperature).max(0.0);
+            workspace.add(j, weight * scale * excess);
+        },
+    );
+}
+
+/// Adds one step of proximity heating as an exchange, for the physical model: a particle on
+/// fire gives a cooler one within the radius `rate × h × weight × (T_fire − T) × m̄` joules per
+/// unit heat capacity (`m̄` the pair's mean mass) and loses the same, so folds and layers
+/// conserve heat as the springs' conduction does.
+pub fn proximity_heat_exchange(
+    front: &Front,
+    particles: &Particles,
+    params: &HeatParams,
+    h: f32,
+    workspace: &mut HeatWorkspace,
+) {
+    let scale = params.proximity_rate * h;
+    let (temperature, mass) = (&particles.temperature, &particles.mass);
+    for_each_near_fire(
+        front,
+        particles,
+        params,
+        workspace,
+        |workspace, i, j, weight| {
+            let difference = (temperature[i] - temperature[j]).max(0.0);
+            let heat = weight * scale * difference * 0.5 * (mass[i] + mass[j]);
+            if heat > 0.0 && mass[i] > 0.0 && mass[j] > 0.0 {
+                workspace.add(j, heat / mass[j]);
+                workspace.add(i, -heat / mass[i]);
+            }
+        },
+    );
 }
 
 /// One full step of the paper's heat model: the push from the fire, self-heating and
@@ -267,8 +314,9 @@ pub fn paper_heat_step(
     workspace.apply(&mut particles.temperature, &particles.state);
 }
 
-/// Proximity heating alone, applied at once: what the physical model adds for folds and
-/// layers that touch without a spring between them.
+/// Proximity heating alone, applied at once, as an exchange that conserves heat
+/// ([`proximity_heat_exchange`]): what the physical model adds for folds and layers that touch
+/// without a spring between them.
 pub fn proximity_heat_step(
     front: &Front,
     particles: &mut Particles,
@@ -277,7 +325,7 @@ pub fn proximity_heat_step(
     h: f32,
 ) {
     workspace.prepare(particles.len());
-    proximity_heat_push(front, particles, params, h, workspace);
+    proximity_heat_exchange(front, particles, params, h, workspace);
     workspace.apply(&mut particles.temperature, &particles.state);
 }
 
@@ -302,19 +350,28 @@ mod tests {
         }
     }
 
-    #[test]
-    fn push_goes_four_times_harder_up_than_sideways() {
-        // Particle 0 on fire at the centre; 1 above, 2 to the side, 3 below.
-        let position = vec![Vec3::ZERO, Vec3::Y, Vec3::X, -Vec3::Y];
+    /// Particle 0 on fire at the centre, `spacing` from particles 1 above, 2 to the side and
+    /// 3 below, with `mass`, `fire` °C at the centre and 15.6 °C around; springs from the centre
+    /// to each when `springs`. The front has scanned them (particle 0 ignited).
+    fn star(
+        spacing: f32,
+        mass: Vec<f32>,
+        fire: f32,
+        with_springs: bool,
+    ) -> (crate::sim::Particles, Springs, Front) {
+        let position = vec![Vec3::ZERO, Vec3::Y, Vec3::X, -Vec3::Y].into_iter();
+        let position: Vec<Vec3> = position.map(|p| p * spacing).collect();
         let mut springs = Springs::default();
-        for j in 1..4 {
-            springs.push(0, j, 1.0, SpringKind::Structural);
+        if with_springs {
+            for j in 1..4 {
+                springs.push(0, j, spacing, SpringKind::Structural);
+            }
         }
         let mut particles = crate::sim::Particles {
             velocity: vec![Vec3::ZERO; 4],
-            mass: vec![1.0; 4],
-            inv_mass: vec![1.0; 4],
-            temperature: vec![115.6, 15.6, 15.6, 15.6],
+            inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
+            mass,
+            temperature: vec![fire, 15.6, 15.6, 15.6],
             state: vec![BurnState::Intact; 4],
             anchor: position.clone(),
             external_force: vec![Vec3::ZERO; 4],
@@ -329,6 +386,12 @@ mod tests {
         front.prepare(&particles, &mut springs, &mut Default::default());
         front.scan(&mut particles, &springs, &material, &mut Vec::new());
         assert_eq!(front.ignited(), &[0]);
+        (particles, springs, front)
+    }
+
+    #[test]
+    fn push_goes_four_times_harder_up_than_sideways() {
+        let (particles, springs, front) = star(1.0, vec![1.0; 4], 115.6, true);
         let params = HeatParams {
             spread_rate: 0.5,
             self_heating_rate: 0.0,
@@ -350,6 +413,46 @@ mod tests {
             delta[0], 0.0,
             "the source loses no heat and gains none from cold ones"
         );
+    }
+
+    #[test]
+    fn the_physical_models_proximity_heating_moves_heat_without_making_any() {
+        // No springs: only proximity heats them. Unequal masses, so the exchange must weigh
+        // them.
+        let (mut particles, _, front) = star(0.5, vec![2.0, 1.0, 0.5, 1.0], 515.6, false);
+        let params = HeatParams {
+            spread_rate: 0.0,
+            self_heating_rate: 0.0,
+            initial_temperature: 15.6,
+            up: Vec3::Y,
+            proximity_radius: 1.0,
+            proximity_rate: 0.5,
+            physical: None,
+        };
+        let heat = |p: &crate::sim::Particles| -> f32 {
+            p.mass.iter().zip(&p.temperature).map(|(m, t)| m * t).sum()
+        };
+        let before = heat(&particles);
+        let old = particles.temperature.clone();
+        let mut workspace = HeatWorkspace::default();
+        proximity_heat_step(&front, &mut particles, &params, &mut workspace, 0.1);
+        let t = &particles.temperature;
+        assert!(
+            (heat(&particles) - before).abs() < 1e-3 * before,
+            "heat {before} -> {}",
+            heat(&particles)
+        );
+        assert!(t[0] < old[0], "the fire gives heat away");
+        // Per unit of pair mass the one above gains four times what the one beside does.
+        let gain =
+            |j: usize| (t[j] - old[j]) * particles.mass[j] / (0.5 * (2.0 + particles.mass[j]));
+        assert!(
+            (gain(1) / gain(2) - 4.0).abs() < 1e-3,
+            "{} vs {}",
+            gain(1),
+            gain(2)
+        );
+        assert!(gain(3) < gain(2) && gain(3) > 0.0);
     }
 
     #[test]
