@@ -5,12 +5,12 @@
 //! cargo run --release --example stress --no-default-features --features smoke,parallel
 //! ```
 //!
-//! Each run: a cotton cloth 1.5 m wide, pinned at every 4th particle of its top edge, lit at
-//! the bottom centre, burning for 2 s before the measured frames; the median of 5 runs (3 for
-//! the slow force-based solver) is printed. "frame" is the simulation step (heat, combustion, pieces, dynamics, culling)
-//! plus the smoke (with feature `smoke`) plus the CPU side of the mesh update
-//! ([`MeshData::update`]: local positions, normals, burn data). Threads: Bevy's compute task
-//! pool with a thread per core (Bevy's default leaves one on a 2-core machine).
+//! Each run: a cotton cloth 1.5 m wide, pinned at every 4th particle of its top edge, lit at the
+//! bottom centre, burning for 2 s before the measured frames; the median of 5 runs (3 for the slow
+//! force-based solver) is printed. "frame" is the simulation step (heat, combustion, pieces,
+//! dynamics, culling) plus the smoke (with feature `smoke`) plus the CPU side of the mesh update
+//! ([`MeshData::update`]: local positions, normals, burn data). Threads: Bevy's compute task pool
+//! with a thread per core (Bevy's default leaves one on a 2-core machine).
 
 use bevy::math::{Affine3A, Vec3};
 use bevy::tasks::{ComputeTaskPool, TaskPool};

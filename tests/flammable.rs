@@ -425,9 +425,9 @@ fn an_imported_style_mesh_with_seams_and_u16_indices_is_welded() {
     assert_eq!(pinned, 3, "the top row, seam included");
 }
 
-/// `Flammable` on a scene root reaches the meshes a scene spawns under it later (as a glTF
-/// scene does: root, node with its own transform, mesh entity), with the root's material
-/// and clean-up, and pins each mesh's top edge in that mesh's own frame; meshes elsewhere stay plain.
+/// `Flammable` on a scene root reaches the meshes a scene spawns under it later (as a glTF scene
+/// does: root, node with its own transform, mesh entity), with the root's material and clean-up,
+/// and pins each mesh's top edge in that mesh's own frame; meshes elsewhere stay plain.
 #[cfg(feature = "render")]
 #[test]
 fn flammable_on_a_scene_root_reaches_meshes_spawned_under_it() {

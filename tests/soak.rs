@@ -1,7 +1,7 @@
-//! Soak: a cloth burning over and over for many steps keeps its memory flat after warm-up
-//! and its state finite. Each time it has burnt out it is restored to new (positions,
-//! states, temperatures and every spring as built) and lit again. Short by default; the full 100 000 steps with
-//! `cargo test --release --test soak -- --ignored`.
+//! Soak: a cloth burning over and over for many steps keeps its memory flat after warm-up and its
+//! state finite. Each time it has burnt out it is restored to new (positions, states, temperatures
+//! and every spring as built) and lit again. Short by default; the full 100 000 steps with `cargo
+//! test --release --test soak -- --ignored`.
 
 use bevy::math::{Affine3A, Vec3};
 use bevy_burning_cloth::sim::{BurnMaterial, BurnState, ClothBuilder, ClothSim};

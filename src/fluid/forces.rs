@@ -163,17 +163,14 @@ fn for_each_active_face(
     shape: &GridShape,
     active: &ActiveSpans,
     axis: usize,
-    mut visit: impl FnMut(usize, (Option<usize>, Option<usize>)),
+    visit: impl FnMut(usize, (Option<usize>, Option<usize>)),
 ) {
-    let dims = shape.face_dims(axis);
-    for k in 0..dims[2] {
-        for j in 0..dims[1] {
-            for i in active.face_row(shape, axis, j, k) {
-                let face = i + dims[0] * (j + dims[1] * k);
-                visit(face, shape.face_cells(axis, [i, j, k]));
-            }
-        }
-    }
+    for_each_face_in_rows(
+        shape,
+        axis,
+        |j, k| active.face_row(shape, axis, j, k),
+        visit,
+    );
 }
 
 /// Calls `visit(face, (cell below, cell above))` for every face normal to `axis`; a face on
@@ -182,12 +179,25 @@ fn for_each_active_face(
 pub fn for_each_face(
     shape: &GridShape,
     axis: usize,
+    visit: impl FnMut(usize, (Option<usize>, Option<usize>)),
+) {
+    let along = shape.face_dims(axis)[0];
+    for_each_face_in_rows(shape, axis, |_, _| 0..along, visit);
+}
+
+/// Calls `visit(face, (cell below, cell above))` for the faces normal to `axis` whose `i` is
+/// in `row(j, k)`, row by row.
+#[inline]
+fn for_each_face_in_rows(
+    shape: &GridShape,
+    axis: usize,
+    row: impl Fn(usize, usize) -> core::ops::Range<usize>,
     mut visit: impl FnMut(usize, (Option<usize>, Option<usize>)),
 ) {
     let dims = shape.face_dims(axis);
     for k in 0..dims[2] {
         for j in 0..dims[1] {
-            for i in 0..dims[0] {
+            for i in row(j, k) {
                 let face = i + dims[0] * (j + dims[1] * k);
                 visit(face, shape.face_cells(axis, [i, j, k]));
             }

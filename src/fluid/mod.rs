@@ -15,12 +15,11 @@
 //! | [`coupling`] | burning cloth feeds the plume; the plume blows on and heats the cloth |
 //! | [`FluidPlugin`] | the scene's [`FirePlume`] and its systems |
 //!
-//! One step (`Plume::step`): advect temperature, smoke and velocity by the current
-//! divergence-free velocity plus the uniform wind; cool the air and thin the smoke; add
-//! buoyancy `up (β ΔT − κ s)` and vorticity confinement `ε h (N × ω)` (in hot air); project (zero the
-//! faces into solids and closed walls, solve `∇²φ = ∇·u`, subtract `∇φ`). Open walls hold
-//! ambient pressure, so the plume leaves through them. While nothing feeds it and the air
-//! has settled, a step costs nothing.
+//! One step (`Plume::step`): advect temperature, smoke and velocity by the current divergence-free
+//! velocity plus the uniform wind; cool the air and thin the smoke; add buoyancy `up (β ΔT − κ s)`
+//! and vorticity confinement `ε h (N × ω)` (in hot air); project (zero the faces into solids and
+//! closed walls, solve `∇²φ = ∇·u`, subtract `∇φ`). Open walls hold ambient pressure, so the plume
+//! leaves through them. While nothing feeds it and the air has settled, a step costs nothing.
 
 pub mod active;
 pub mod advect;

@@ -75,6 +75,12 @@ const LAYERS_PER_PART: usize = 2;
 /// the split gained nothing, at 48³ it saves a fifth of a step).
 const PARALLEL_CELLS: usize = 50_000;
 
+/// The pool a sweep over a level of `cells` cells runs on: none below [`PARALLEL_CELLS`] or
+/// without feature `parallel` (the sweep then runs on the calling thread).
+fn sweep_pool(pool: Option<&TaskPool>, cells: usize) -> Option<&TaskPool> {
+    pool.filter(|_| cells >= PARALLEL_CELLS && cfg!(feature = "parallel"))
+}
+
 /// `Σ c_ij x_j` over the neighbours of cell `c` at `at` of a level of `dims` with
 /// couplings `couple`.
 #[inline(always)]
@@ -109,7 +115,7 @@ fn for_each_row(
 ) {
     let [nx, ny, _] = dims;
     let layer = nx * ny;
-    let pool = pool.filter(|_| out.len() >= PARALLEL_CELLS);
+    let pool = sweep_pool(pool, out.len());
     let parts = out.chunks_mut(layer * LAYERS_PER_PART).enumerate();
     for_each_part(pool, parts, |(part, out)| {
         let k0 = part * LAYERS_PER_PART;
@@ -206,7 +212,7 @@ impl Level {
             ..
         } = self;
         let dims = *dims;
-        if pool.is_none_or(|_| x.len() < PARALLEL_CELLS || !cfg!(feature = "parallel")) {
+        if sweep_pool(pool, x.len()).is_none() {
             // On this thread: in place, as a cell's neighbours are of the other colour.
             let [nx, ny, nz] = dims;
             for k in 0..nz {

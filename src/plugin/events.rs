@@ -61,10 +61,11 @@ impl Ignite {
 /// Puts a fire out: cools the cloth's unburnt particles within a region (or all of them)
 /// below ignition, so they stop burning; burnt holes stay. Water, a spell, a sprinkler.
 ///
-/// The default temperature is [`extinguished_temperature`](sim::combustion::extinguished_temperature):
-/// just below ignition, so the doused cloth keeps its scorch and char. Heat from a fire still
-/// burning elsewhere can relight it. A request on an entity that is not a built cloth, with a
-/// non-finite region or an invalid temperature is logged and ignored.
+/// The default temperature is
+/// [`extinguished_temperature`](sim::combustion::extinguished_temperature): just below ignition, so
+/// the doused cloth keeps its scorch and char. Heat from a fire still burning elsewhere can relight
+/// it. A request on an entity that is not a built cloth, with a non-finite region or an invalid
+/// temperature is logged and ignored.
 #[derive(EntityEvent, Clone, Copy, Debug, PartialEq)]
 pub struct Extinguish {
     /// The cloth entity.

@@ -5,12 +5,12 @@ use crate::sim::{BurnMaterial, MeshClothBuilder, MeshPins};
 use bevy::mesh::{PrimitiveTopology, VertexAttributeValues};
 use bevy::prelude::*;
 
-/// Makes the `Mesh3d` on this entity a burning cloth: once the mesh asset has loaded, its
-/// vertices become particles (duplicates at the same position welded), its edges springs,
-/// and its triangles the cloth; the entity's [`BurnMaterial`] (default cloth) sets mass and burning, its `Transform` places it, and `pins` holds it up.
-/// The entity's `MeshMaterial3d<StandardMaterial>`, if any, becomes the base of the burning
-/// look (its colour and texture are kept). A mesh that is not a triangle list, has no
-/// positions, or cannot become a cloth is logged and left as it is.
+/// Makes the `Mesh3d` on this entity a burning cloth: once the mesh asset has loaded, its vertices
+/// become particles (duplicates at the same position welded), its edges springs, and its triangles
+/// the cloth; the entity's [`BurnMaterial`] (default cloth) sets mass and burning, its `Transform`
+/// places it, and `pins` holds it up. The entity's `MeshMaterial3d<StandardMaterial>`, if any,
+/// becomes the base of the burning look (its colour and texture are kept). A mesh that is not a
+/// triangle list, has no positions, or cannot become a cloth is logged and left as it is.
 ///
 /// On an entity without a `Mesh3d` (a glTF scene's `WorldAssetRoot`, Bevy 0.19's name for
 /// `SceneRoot`, or any parent), `Flammable` is handed down, with the entity's `BurnMaterial`,

@@ -6,8 +6,9 @@
 //!
 //! `mᵢ dTᵢ/dt = Σⱼ m̄ᵢⱼ (α/lᵢⱼ² + c·(L_ref/lᵢⱼ)·max(ûᵢⱼ·up, 0)·[Tᵢ > Tⱼ]) (Tⱼ − Tᵢ) + mᵢ q [ignited] − mᵢ κ (Tᵢ − T_air)`
 //!
-//! - conduction with diffusivity `α` (m²/s, [`PhysicalHeat::diffusivity`]): on a square grid of spacing `dx` this is the
-//!   5-point Laplacian, so `∂T/∂t = α∇²T` (checked against the spreading Gaussian);
+//! - conduction with diffusivity `α` (m²/s, [`PhysicalHeat::diffusivity`]): on a square grid of
+//!   spacing `dx` this is the 5-point Laplacian, so `∂T/∂t = α∇²T` (checked against the spreading
+//!   Gaussian);
 //! - convection at rate `c` (1/s for links [`REFERENCE_SPACING`] long, `c·L_ref/lᵢⱼ` for a
 //!   link `lᵢⱼ` long, an upwind transport at `c·L_ref` m/s whatever the spacing): hot air
 //!   carries heat from a particle to a cooler one above it, in proportion to how vertical
@@ -15,11 +16,11 @@
 //! - heat release `q` (°C/s, [`PhysicalHeat::burn_heating`]) while a particle is ignited;
 //! - cooling at rate `κ` (1/s) towards the air temperature.
 //!
-//! Each exchange is a flux between two particles, so with no burning and no cooling
-//! `Σ mᵢTᵢ` is conserved to rounding (insulated edges). Burnt particles take no part. The
-//! explicit update is stable and never overshoots when `h ≤ mᵢ / Σⱼ m̄ᵢⱼ rateᵢⱼ` for every
-//! particle; [`conduction_step`] splits `h` into as many substeps as that needs (cooling is
-//! applied exactly, as an exponential).
+//! Each exchange is a flux between two particles, so with no burning and no cooling `Σ mᵢTᵢ` is
+//! conserved to rounding (insulated edges). Burnt particles take no part. The explicit update is
+//! stable and never overshoots when `h ≤ mᵢ / Σⱼ m̄ᵢⱼ rateᵢⱼ` for every particle;
+//! [`conduction_step`] splits `h` into as many substeps as that needs (cooling is applied exactly,
+//! as an exponential).
 
 use super::material::{MAX_TEMPERATURE, REFERENCE_SPACING};
 use super::particles::BurnState;

@@ -317,9 +317,10 @@ impl Front {
     }
 
     /// Cuts the live springs that pass over the particles in `newly_burnt` (a bending or shear
-    /// spring would otherwise hold across the gap), by each spring's [`SpanRule`](super::springs::SpanRule): each one's
-    /// second end is moved to the burnt particle it spanned, which makes it dead for every loop that checks its ends. Returns
-    /// how many were cut.
+    /// spring would otherwise hold across the gap), by each spring's
+    /// [`SpanRule`](super::springs::SpanRule): each one's second end is moved to the burnt particle
+    /// it spanned, which makes it dead for every loop that checks its ends. Returns how many were
+    /// cut.
     pub fn sever(&self, springs: &mut Springs, state: &[BurnState], newly_burnt: &[u32]) -> u32 {
         let mut cut = 0;
         for &burnt in newly_burnt {

@@ -268,10 +268,10 @@ pub fn proximity_heat_push(
     );
 }
 
-/// Adds one step of proximity heating as an exchange, for the physical model: a particle on
-/// fire gives a cooler one within the radius `rate × h × weight × (T_fire − T) × m̄` joules per
-/// unit heat capacity (`m̄` the pair's mean mass) and loses the same, so folds and layers
-/// conserve heat as the springs' conduction does.
+/// Adds one step of proximity heating as an exchange, for the physical model: a particle on fire
+/// gives a cooler one within the radius `rate × h × weight × (T_fire − T) × m̄` joules per unit
+/// heat capacity (`m̄` the pair's mean mass) and loses the same, so folds and layers conserve heat
+/// as the springs' conduction does.
 pub fn proximity_heat_exchange(
     front: &Front,
     particles: &Particles,

@@ -6,11 +6,10 @@
 //!
 //! `Δλ = −(C + γ Ċh) / ((1 + γ)(w_a + w_b) + α̃)`, `Δx_a = w_a Δλ n`, `Δx_b = −w_b Δλ n`
 //!
-//! with `C = |x_a − x_b| − L`, `n` the unit vector from `b` to `a`, `α̃ = 1/(k h²)`,
-//! `γ = c/(k h)` and `Ċh = n · (Δx_a − Δx_b)` the constraint's change over the substep so far.
-//! The per-spring factors `w/((1 + γ)(w_a + w_b) + α̃)` are computed once (they change only
-//! with masses, pins, burning and the step) and passed in as `ca`, `cb`; a dead spring has
-//! both zero.
+//! with `C = |x_a − x_b| − L`, `n` the unit vector from `b` to `a`, `α̃ = 1/(k h²)`, `γ = c/(k h)`
+//! and `Ċh = n · (Δx_a − Δx_b)` the constraint's change over the substep so far. The per-spring
+//! factors `w/((1 + γ)(w_a + w_b) + α̃)` are computed once (they change only with masses, pins,
+//! burning and the step) and passed in as `ca`, `cb`; a dead spring has both zero.
 //!
 //! A particle's position is split into where it was at the start of the substep, `x`, and how
 //! far it has moved since, `u` (both f32): the prediction sets `u = h v`, corrections add to

@@ -1163,10 +1163,10 @@ impl Factors<'_> {
     }
 }
 
-/// The lane layout of a grid cloth, if its springs are the grid's springs: each lane element
-/// that stands for a spring is matched to the stored spring with the same ends (first end
-/// first; a cut bending or shear spring by the particles it spans). `None` when a spring is missing,
-/// reversed or left over, so hand-made springs fall back to the indexed layout.
+/// The lane layout of a grid cloth, if its springs are the grid's springs: each lane element that
+/// stands for a spring is matched to the stored spring with the same ends (first end first; a cut
+/// bending or shear spring by the particles it spans). `None` when a spring is missing, reversed or
+/// left over, so hand-made springs fall back to the indexed layout.
 fn grid_layout(grid: GridShape, springs: &Springs, particles: usize) -> Option<Layout> {
     if (grid.columns * grid.rows) as usize != particles {
         return None;
