@@ -5,6 +5,9 @@
 //! cargo run --release --example stress --no-default-features --features smoke,parallel
 //! ```
 //!
+//! `-- --default-only`: the size table for the default solver alone (a minute, for iterating);
+//! `-- --plume-only` (with `fluid`): the plume's table alone.
+//!
 //! Each run: a cotton cloth 1.5 m wide, pinned at every 4th particle of its top edge, lit at the
 //! bottom centre, burning for 2 s before the measured frames; the median of 5 runs (3 for the slow
 //! force-based solver) is printed. "frame" is the simulation step (heat, combustion, pieces,
@@ -147,14 +150,14 @@ fn median(mut runs: Vec<Run>) -> Run {
     runs[runs.len() / 2]
 }
 
-fn size_table(pool: &TaskPool) {
+fn size_table(pool: &TaskPool, integrators: &[Integrator]) {
     println!(
         "| cloth | particles | solver chosen | ran as | substeps | ms per frame | ns per particle | heat | combustion | pieces | dynamics | culling | smoke | mesh | max stretch hanging |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for size in [32u32, 64, 128, 256] {
         let particles = size * size;
-        for integrator in [Integrator::default(), Integrator::SymplecticEuler] {
+        for &integrator in integrators {
             // Fewer frames and runs for the slow one, so the table takes minutes, not hours.
             let slow = !integrator.is_unconditionally_stable();
             let frames = (1_000_000 / particles).clamp(10, 600) / if slow { 4 } else { 1 };
@@ -399,7 +402,11 @@ fn main() {
         plume_table(pool);
         return;
     }
-    size_table(pool);
+    if std::env::args().any(|a| a == "--default-only") {
+        size_table(pool, &[Integrator::default()]);
+        return;
+    }
+    size_table(pool, &[Integrator::default(), Integrator::SymplecticEuler]);
     many_cloths_table();
     #[cfg(feature = "smoke")]
     smoke_table();

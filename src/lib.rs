@@ -56,7 +56,6 @@
 //!   examples and their tests.
 
 #![warn(missing_docs)]
-#![forbid(unsafe_code)]
 
 pub mod plugin;
 

@@ -4,23 +4,26 @@
 
 use bevy::tasks::TaskPool;
 
-/// Runs `work` on every part: on `pool`'s threads when one is given and the crate is built
-/// with the `parallel` feature, else in order on this thread.
+/// Runs `work` on every part: on `pool`'s threads when one is given, the crate is built with
+/// the `parallel` feature and there is more than one part, else in order on this thread.
 pub fn for_each_part<T: Send>(
     pool: Option<&TaskPool>,
     parts: impl Iterator<Item = T>,
     work: impl Fn(T) + Sync,
 ) {
-    match pool.filter(|_| cfg!(feature = "parallel")) {
+    let mut parts = parts.peekable();
+    let first = parts.next();
+    match pool.filter(|_| cfg!(feature = "parallel") && parts.peek().is_some()) {
         Some(pool) => {
             let work = &work;
             pool.scope(|scope| {
-                for part in parts {
+                for part in first.into_iter().chain(parts) {
                     scope.spawn(async move { work(part) });
                 }
             });
         }
-        None => parts.for_each(work),
+        // One part (or none) needs no pool: a scope would cost more than small work.
+        None => first.into_iter().chain(parts).for_each(work),
     }
 }
 

@@ -51,34 +51,43 @@ pub(crate) struct RunData<'a> {
     pub gamma: f32,
 }
 
-/// Four lanes of `f32`, which the compiler keeps in one SIMD register.
-type F4 = [f32; 4];
+/// `N` lanes of `f32`, which the compiler keeps in one SIMD register (4: SSE, 8: AVX).
+type Lanes<const N: usize> = [f32; N];
 
 #[inline(always)]
-fn load(slice: &[f32], at: usize) -> F4 {
-    let mut out = [0.0; 4];
-    out.copy_from_slice(&slice[at..at + 4]);
+fn load<const N: usize>(slice: &[f32], at: usize) -> Lanes<N> {
+    let mut out = [0.0; N];
+    out.copy_from_slice(&slice[at..at + N]);
     out
 }
 
 #[inline(always)]
-fn store(slice: &mut [f32], at: usize, value: F4) {
-    slice[at..at + 4].copy_from_slice(&value);
+fn store<const N: usize>(slice: &mut [f32], at: usize, value: Lanes<N>) {
+    slice[at..at + N].copy_from_slice(&value);
 }
 
 #[inline(always)]
-fn zip(a: F4, b: F4, f: impl Fn(f32, f32) -> f32) -> F4 {
-    [f(a[0], b[0]), f(a[1], b[1]), f(a[2], b[2]), f(a[3], b[3])]
+fn zip<const N: usize>(a: Lanes<N>, b: Lanes<N>, f: impl Fn(f32, f32) -> f32) -> Lanes<N> {
+    core::array::from_fn(|l| f(a[l], b[l]))
 }
 
-/// The multipliers `(ca s, cb s)` of four elements from their end-to-end vectors `e` and
+/// The multipliers `(ca s, cb s)` of `N` elements from their end-to-end vectors `e` and
 /// relative displacements `r`, per axis.
 #[inline(always)]
-fn four(e: [F4; 3], r: [F4; 3], data: &RunData, k: usize) -> (F4, F4) {
-    let (rest, ca, cb) = (load(data.rest, k), load(data.ca, k), load(data.cb, k));
-    let mut sa = [0.0; 4];
-    let mut sb = [0.0; 4];
-    for l in 0..4 {
+fn several<const N: usize>(
+    e: [Lanes<N>; 3],
+    r: [Lanes<N>; 3],
+    data: &RunData,
+    k: usize,
+) -> (Lanes<N>, Lanes<N>) {
+    let (rest, ca, cb) = (
+        load::<N>(data.rest, k),
+        load::<N>(data.ca, k),
+        load::<N>(data.cb, k),
+    );
+    let mut sa = [0.0; N];
+    let mut sb = [0.0; N];
+    for l in 0..N {
         let el = [e[0][l], e[1][l], e[2][l]];
         let rl = [r[0][l], r[1][l], r[2][l]];
         let s = multiplier(el, rl, rest[l], data.gamma);
@@ -89,8 +98,24 @@ fn four(e: [F4; 3], r: [F4; 3], data: &RunData, k: usize) -> (F4, F4) {
 }
 
 /// A lane whose two ends lie in separate arrays: element `k` joins `(xa, ua)[k]` to
-/// `(xb, ub)[k]`. Four elements at a time.
+/// `(xb, ub)[k]`. Four elements at a time, eight where the CPU has AVX (the same operations
+/// on each element, so the same result to the bit).
 pub(crate) fn project_split(
+    x: ([&[f32]; 3], [&[f32]; 3]),
+    ua: &mut [&mut [f32]; 3],
+    ub: &mut [&mut [f32]; 3],
+    data: RunData,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if wide::available() {
+        return wide::project_split(x, ua, ub, data);
+    }
+    split_lane::<4>(x, ua, ub, data);
+}
+
+/// [`project_split`], `N` elements at a time.
+#[inline(always)]
+fn split_lane<const N: usize>(
     (xa, xb): ([&[f32]; 3], [&[f32]; 3]),
     ua: &mut [&mut [f32]; 3],
     ub: &mut [&mut [f32]; 3],
@@ -103,10 +128,10 @@ pub(crate) fn project_split(
     let [ub0, ub1, ub2] = ub;
     let (ua0, ua1, ua2) = (&mut ua0[..len], &mut ua1[..len], &mut ua2[..len]);
     let (ub0, ub1, ub2) = (&mut ub0[..len], &mut ub1[..len], &mut ub2[..len]);
-    let chunks = len / 4;
+    let chunks = len / N;
     for chunk in 0..chunks {
-        let k = 4 * chunk;
-        let (pa, pb) = (
+        let k = N * chunk;
+        let (pa, pb): ([Lanes<N>; 3], [Lanes<N>; 3]) = (
             [load(ua0, k), load(ua1, k), load(ua2, k)],
             [load(ub0, k), load(ub1, k), load(ub2, k)],
         );
@@ -132,7 +157,7 @@ pub(crate) fn project_split(
                 |p, q| p + q,
             ),
         ];
-        let (sa, sb) = four(e, r, &data, k);
+        let (sa, sb) = several(e, r, &data, k);
         store(
             ua0,
             k,
@@ -164,7 +189,7 @@ pub(crate) fn project_split(
             zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
         );
     }
-    for k in 4 * chunks..len {
+    for k in N * chunks..len {
         let r = [ua0[k] - ub0[k], ua1[k] - ub1[k], ua2[k] - ub2[k]];
         let e = [
             (xa0[k] - xb0[k]) + r[0],
@@ -180,8 +205,25 @@ pub(crate) fn project_split(
 
 /// A lane whose two ends lie in the same arrays: element `k` joins index `a + k` to index
 /// `b + k`. Four elements at a time when the ends are at least four apart (no two of the four
-/// touch the same particle), otherwise one at a time; in order either way.
+/// touch the same particle), eight when they are at least eight apart and the CPU has AVX,
+/// otherwise one at a time; in order either way, so the result is the same to the bit.
 pub(crate) fn project_shared(
+    x: [&[f32]; 3],
+    u: &mut [&mut [f32]; 3],
+    a: usize,
+    b: usize,
+    data: RunData,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if a.abs_diff(b) >= 8 && wide::available() {
+        return wide::project_shared(x, u, a, b, data);
+    }
+    shared_lane::<4>(x, u, a, b, data);
+}
+
+/// [`project_shared`], `N` elements at a time when the ends are at least `N` apart.
+#[inline(always)]
+fn shared_lane<const N: usize>(
     x: [&[f32]; 3],
     u: &mut [&mut [f32]; 3],
     a: usize,
@@ -193,11 +235,11 @@ pub(crate) fn project_shared(
     let [x0, x1, x2] = x.map(|s| &s[..end]);
     let [u0, u1, u2] = u;
     let (u0, u1, u2) = (&mut u0[..end], &mut u1[..end], &mut u2[..end]);
-    let chunks = if a.abs_diff(b) >= 4 { len / 4 } else { 0 };
+    let chunks = if a.abs_diff(b) >= N { len / N } else { 0 };
     for chunk in 0..chunks {
-        let k = 4 * chunk;
+        let k = N * chunk;
         let (ia, ib) = (a + k, b + k);
-        let (pa, pb) = (
+        let (pa, pb): ([Lanes<N>; 3], [Lanes<N>; 3]) = (
             [load(u0, ia), load(u1, ia), load(u2, ia)],
             [load(u0, ib), load(u1, ib), load(u2, ib)],
         );
@@ -223,7 +265,7 @@ pub(crate) fn project_shared(
                 |p, q| p + q,
             ),
         ];
-        let (sa, sb) = four(e, r, &data, k);
+        let (sa, sb) = several(e, r, &data, k);
         store(
             u0,
             ia,
@@ -255,7 +297,7 @@ pub(crate) fn project_shared(
             zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
         );
     }
-    for k in 4 * chunks..len {
+    for k in N * chunks..len {
         let (ia, ib) = (a + k, b + k);
         let r = [u0[ia] - u0[ib], u1[ia] - u1[ib], u2[ia] - u2[ib]];
         let e = [
@@ -267,6 +309,60 @@ pub(crate) fn project_shared(
         let (sa, sb) = (data.ca[k] * s, data.cb[k] * s);
         (u0[ia], u1[ia], u2[ia]) = (u0[ia] + sa * e[0], u1[ia] + sa * e[1], u2[ia] + sa * e[2]);
         (u0[ib], u1[ib], u2[ib]) = (u0[ib] - sb * e[0], u1[ib] - sb * e[1], u2[ib] - sb * e[2]);
+    }
+}
+
+/// The lane kernels eight elements at a time, compiled for AVX and used where the CPU has it
+/// (checked at run time, once). Only AVX: no fused multiply-add, which would round
+/// differently from the four-wide loops and make results depend on the CPU.
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod wide {
+    use super::{RunData, shared_lane, split_lane};
+
+    /// Whether this CPU runs AVX instructions (the standard library caches the answer).
+    #[inline]
+    pub(super) fn available() -> bool {
+        std::arch::is_x86_feature_detected!("avx")
+    }
+
+    /// [`super::project_split`] eight elements at a time. Only called when [`available`].
+    pub(super) fn project_split(
+        x: ([&[f32]; 3], [&[f32]; 3]),
+        ua: &mut [&mut [f32]; 3],
+        ub: &mut [&mut [f32]; 3],
+        data: RunData,
+    ) {
+        // SAFETY: called only after `available()` found AVX on this CPU.
+        unsafe { split_avx(x, ua, ub, data) }
+    }
+
+    /// [`super::project_shared`] eight elements at a time, for ends at least eight apart.
+    /// Only called when [`available`].
+    pub(super) fn project_shared(
+        x: [&[f32]; 3],
+        u: &mut [&mut [f32]; 3],
+        a: usize,
+        b: usize,
+        data: RunData,
+    ) {
+        // SAFETY: called only after `available()` found AVX on this CPU.
+        unsafe { shared_avx(x, u, a, b, data) }
+    }
+
+    #[target_feature(enable = "avx")]
+    fn split_avx(
+        x: ([&[f32]; 3], [&[f32]; 3]),
+        ua: &mut [&mut [f32]; 3],
+        ub: &mut [&mut [f32]; 3],
+        data: RunData,
+    ) {
+        split_lane::<8>(x, ua, ub, data);
+    }
+
+    #[target_feature(enable = "avx")]
+    fn shared_avx(x: [&[f32]; 3], u: &mut [&mut [f32]; 3], a: usize, b: usize, data: RunData) {
+        shared_lane::<8>(x, u, a, b, data);
     }
 }
 
@@ -392,11 +488,11 @@ mod tests {
 
     #[test]
     fn a_lane_four_at_a_time_matches_the_same_springs_one_by_one() {
-        // A chain of 16 particles; lanes join each to the one `gap` further on. With a gap of
-        // at least 4 the lane goes four elements at a time, each reading what the elements
-        // before it wrote; with a smaller gap it goes one at a time. Both must equal the
-        // springs projected one by one in order.
-        let n = 16;
+        // A chain of 40 particles; lanes join each to the one `gap` further on. With a gap of
+        // at least 4 the lane goes four elements at a time (eight with AVX and a gap of at
+        // least 8), each reading what the elements before it wrote; with a smaller gap it
+        // goes one at a time. Every way must equal the springs projected one by one in order.
+        let n = 40;
         let x: [Vec<f32>; 3] = [
             (0..n)
                 .map(|i| 0.1 * i as f32 + 0.003 * (i % 3) as f32)
@@ -409,7 +505,7 @@ mod tests {
             vec![-2e-4; n],
             (0..n).map(|i| 5e-4 * (i % 2) as f32).collect(),
         ];
-        for gap in [1usize, 3, 4, 5, 8] {
+        for gap in [1usize, 3, 4, 5, 8, 9, 16] {
             let len = n - gap;
             let rest: Vec<f32> = (0..len)
                 .map(|k| 0.09 * gap as f32 + 0.001 * k as f32)
@@ -436,5 +532,61 @@ mod tests {
             let lane = run(&|arrays| project_shared(arrays.x, &mut arrays.u, 0, gap, data));
             assert_eq!(lane, one_by_one, "gap {gap}");
         }
+    }
+
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn eight_wide_lanes_equal_four_wide_to_the_bit() {
+        if !wide::available() {
+            eprintln!("no AVX on this CPU: the eight-wide loops are not used");
+            return;
+        }
+        // 37 elements: four chunks of eight and a tail of five; values spread over several
+        // orders of magnitude so any difference in rounding would show.
+        let n = 80;
+        let value = |i: usize, scale: f32| scale * ((i * 7919 % 101) as f32 - 50.0) / 37.0;
+        let x: [Vec<f32>; 3] = [
+            (0..n).map(|i| 0.05 * i as f32 + value(i, 1e-3)).collect(),
+            (0..n).map(|i| value(i + 3, 1e-2)).collect(),
+            (0..n).map(|i| value(i + 5, 1e-4)).collect(),
+        ];
+        let u0: [Vec<f32>; 3] =
+            core::array::from_fn(|axis| (0..n).map(|i| value(i + axis, 1e-5)).collect());
+        let len = 37;
+        let rest: Vec<f32> = (0..len).map(|k| 0.4 + value(k, 1e-3)).collect();
+        let ca: Vec<f32> = (0..len).map(|k| 0.3 + value(k + 1, 1e-2)).collect();
+        let cb: Vec<f32> = (0..len).map(|k| 0.2 + value(k + 2, 1e-2)).collect();
+        let data = RunData {
+            rest: &rest,
+            ca: &ca,
+            cb: &cb,
+            gamma: 0.07,
+        };
+        let run = |f: &dyn Fn([&[f32]; 3], &mut [&mut [f32]; 3])| {
+            let mut u = u0.clone();
+            let [u_x, u_y, u_z] = &mut u;
+            f([&x[0], &x[1], &x[2]], &mut [u_x, u_y, u_z]);
+            u
+        };
+        let bits = |u: [Vec<f32>; 3]| u.map(|a| a.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+        for gap in [8, 11, 27] {
+            let four = run(&|x, u| shared_lane::<4>(x, u, 0, gap, data));
+            let eight = run(&|x, u| wide::project_shared(x, u, 0, gap, data));
+            assert_eq!(bits(four), bits(eight), "shared lane, gap {gap}");
+        }
+        let split =
+            |f: &dyn Fn(([&[f32]; 3], [&[f32]; 3]), &mut [&mut [f32]; 3], &mut [&mut [f32]; 3])| {
+                run(&|x, u| {
+                    let [u0, u1, u2] = u;
+                    let (u0a, u0b) = u0.split_at_mut(n / 2);
+                    let (u1a, u1b) = u1.split_at_mut(n / 2);
+                    let (u2a, u2b) = u2.split_at_mut(n / 2);
+                    let ends = (x, x.map(|axis| &axis[n / 2..]));
+                    f(ends, &mut [u0a, u1a, u2a], &mut [u0b, u1b, u2b]);
+                })
+            };
+        let four = split(&|x, ua, ub| split_lane::<4>(x, ua, ub, data));
+        let eight = split(&|x, ua, ub| wide::project_split(x, ua, ub, data));
+        assert_eq!(bits(four), bits(eight), "split lane");
     }
 }
