@@ -286,47 +286,17 @@ impl Level {
 
     /// `y = A x`.
     fn apply(&self, x: &[f32], y: &mut [f32], pool: Option<&TaskPool>) {
-        let Self {
-            dims,
-            diag,
-            couple,
-            all_air_rows: all_air,
-            ..
-        } = self;
-        let dims = *dims;
-        let cell = |c: usize, at: [usize; 3]| {
-            if diag[c] > 0.0 {
-                diag[c] * x[c] - neighbour_sum(dims, couple, x, c, at)
-            } else {
-                0.0
-            }
-        };
-        for_each_row(dims, y, pool, |first, j, k, row| {
-            if !is_interior_row(dims, j, k) {
-                for (i, y) in row.iter_mut().enumerate() {
-                    *y = cell(first + i, [i, j, k]);
-                }
-                return;
-            }
-            let (ds, xs) = (
-                &diag[first..first + row.len()],
-                &x[first..first + row.len()],
-            );
-            interior_sums(
-                dims,
-                couple,
-                all_air[j + dims[1] * k],
-                x,
-                first,
-                |i, sum| {
-                    let value = ds[i] * xs[i] - sum;
-                    row[i] = if ds[i] > 0.0 { value } else { 0.0 };
-                },
-            );
-            let last = row.len() - 1;
-            row[0] = cell(first, [0, j, k]);
-            row[last] = cell(first + last, [last, j, k]);
-        });
+        self.operator().rows(x, y, pool, |_, ax| ax);
+    }
+
+    /// The operator's coefficients, borrowed apart from the level's vectors.
+    fn operator(&self) -> Operator<'_> {
+        Operator {
+            dims: self.dims,
+            diag: &self.diag,
+            couple: &self.couple,
+            all_air_rows: &self.all_air_rows,
+        }
     }
 
     /// One Gauss-Seidel sweep over the cells of one colour (`(i + j + k) % 2 == colour`).
@@ -398,48 +368,63 @@ impl Level {
 
     /// `r = b − A x`.
     fn residual(&mut self, pool: Option<&TaskPool>) {
+        let operator = Operator {
+            dims: self.dims,
+            diag: &self.diag,
+            couple: &self.couple,
+            all_air_rows: &self.all_air_rows,
+        };
+        let b = &self.b;
+        operator.rows(&self.x, &mut self.r, pool, |c, ax| b[c] - ax);
+    }
+}
+
+/// A level's operator `A`: what [`Level::apply`] and [`Level::residual`] share.
+struct Operator<'a> {
+    dims: [usize; 3],
+    diag: &'a [f32],
+    couple: &'a [Vec<f32>; 3],
+    all_air_rows: &'a [bool],
+}
+
+impl Operator<'_> {
+    /// Writes `finish(c, (A x)_c)` into `out` for every air cell `c` and zero for solid
+    /// ones, row by row (rows in parallel on `pool`); the interior rows' products in one SIMD
+    /// loop ([`interior_sums`]), the same to the bit as the cell-by-cell stencil.
+    fn rows(
+        &self,
+        x: &[f32],
+        out: &mut [f32],
+        pool: Option<&TaskPool>,
+        finish: impl Fn(usize, f32) -> f32 + Sync,
+    ) {
         let Self {
             dims,
             diag,
             couple,
-            b,
-            x,
-            r,
-            all_air_rows: all_air,
-            ..
-        } = self;
-        let (x, dims) = (&*x, *dims);
+            all_air_rows,
+        } = *self;
         let cell = |c: usize, at: [usize; 3]| {
             if diag[c] > 0.0 {
-                b[c] - (diag[c] * x[c] - neighbour_sum(dims, couple, x, c, at))
+                finish(c, diag[c] * x[c] - neighbour_sum(dims, couple, x, c, at))
             } else {
                 0.0
             }
         };
-        for_each_row(dims, r, pool, |first, j, k, row| {
+        for_each_row(dims, out, pool, |first, j, k, row| {
             if !is_interior_row(dims, j, k) {
-                for (i, r) in row.iter_mut().enumerate() {
-                    *r = cell(first + i, [i, j, k]);
+                for (i, out) in row.iter_mut().enumerate() {
+                    *out = cell(first + i, [i, j, k]);
                 }
                 return;
             }
             let n = row.len();
-            let (bs, ds, xs) = (
-                &b[first..first + n],
-                &diag[first..first + n],
-                &x[first..first + n],
-            );
-            interior_sums(
-                dims,
-                couple,
-                all_air[j + dims[1] * k],
-                x,
-                first,
-                |i, sum| {
-                    let value = bs[i] - (ds[i] * xs[i] - sum);
-                    row[i] = if ds[i] > 0.0 { value } else { 0.0 };
-                },
-            );
+            let (ds, xs) = (&diag[first..first + n], &x[first..first + n]);
+            let all_air = all_air_rows[j + dims[1] * k];
+            interior_sums(dims, couple, all_air, x, first, |i, sum| {
+                let value = finish(first + i, ds[i] * xs[i] - sum);
+                row[i] = if ds[i] > 0.0 { value } else { 0.0 };
+            });
             row[0] = cell(first, [0, j, k]);
             row[n - 1] = cell(first + n - 1, [n - 1, j, k]);
         });
