@@ -6,7 +6,8 @@
 //! ```
 //!
 //! `-- --default-only`: the size table for the default solver alone (a minute, for iterating);
-//! `-- --plume-only` (with `fluid`): the plume's table alone.
+//! `-- --many-only`: the twenty-cloth scene alone; `-- --plume-only` (with `fluid`): the plume's
+//! table alone.
 //!
 //! Each run: a cotton cloth 1.5 m wide, pinned at every 4th particle of its top edge, lit at the
 //! bottom centre, burning for 2 s before the measured frames; the median of 5 runs (3 for the slow
@@ -189,9 +190,17 @@ fn size_table(pool: &TaskPool, integrators: &[Integrator]) {
     );
 }
 
+/// A cloth of the many-cloths scene: its grid, where it hangs, and the particles lit.
+struct SceneCloth {
+    columns: u32,
+    rows: u32,
+    at: Vec3,
+    lit: Vec<usize>,
+}
+
 /// Wall time of the simulation step of all cloths in an app (the plugin's `ClothStepTiming`),
 /// ms, median over `steps` steps after 2 s of burning.
-fn app_step_ms(cloths: &[(u32, Vec3)], steps: usize) -> f64 {
+fn app_step_ms(cloths: &[SceneCloth], steps: usize) -> f64 {
     use bevy::prelude::*;
     use bevy::time::TimeUpdateStrategy;
     use bevy_burning_cloth::prelude::*;
@@ -204,20 +213,21 @@ fn app_step_ms(cloths: &[(u32, Vec3)], steps: usize) -> f64 {
         .insert_resource(Time::<Fixed>::from_seconds(f64::from(DT)));
     let entities: Vec<Entity> = cloths
         .iter()
-        .map(|&(size, at)| {
+        .map(|cloth| {
             app.world_mut()
                 .spawn((
-                    ClothBuilder::grid(size, size, 0.75 / 32.0).pin_top_every(4),
+                    ClothBuilder::grid(cloth.columns, cloth.rows, 0.75 / 32.0).pin_top_every(4),
                     BurnMaterial::COTTON,
-                    Transform::from_translation(at),
+                    Transform::from_translation(cloth.at),
                 ))
                 .id()
         })
         .collect();
     app.update();
-    for (&entity, &(size, _)) in entities.iter().zip(cloths) {
-        let index = (size * (size - 2) + size / 2) as usize;
-        app.world_mut().trigger(Ignite::particle(entity, index));
+    for (&entity, cloth) in entities.iter().zip(cloths) {
+        for &index in &cloth.lit {
+            app.world_mut().trigger(Ignite::particle(entity, index));
+        }
     }
     for _ in 0..120 {
         app.update();
@@ -232,18 +242,45 @@ fn app_step_ms(cloths: &[(u32, Vec3)], steps: usize) -> f64 {
     times[times.len() / 2]
 }
 
+/// Twenty 32 x 32 cloths, each lit near its bottom centre, against one 160 x 128 cloth (the
+/// same 20 480 particles: the twenty tiled five across and four down) lit at the same twenty
+/// places, so both scenes burn the same fronts.
 fn many_cloths_table() {
-    let twenty: Vec<(u32, Vec3)> = (0..20)
-        .map(|i| (32, Vec3::new((i % 5) as f32, 2.0 + (i / 5) as f32, 0.0)))
+    const TILE: u32 = 32;
+    // Near the bottom centre of a tile: two rows above its last.
+    let lit_in_tile = |columns: u32, tile_column: u32, tile_row: u32| {
+        ((tile_row * TILE + TILE - 2) * columns + tile_column * TILE + TILE / 2) as usize
+    };
+    let twenty: Vec<SceneCloth> = (0..20)
+        .map(|i| SceneCloth {
+            columns: TILE,
+            rows: TILE,
+            at: Vec3::new((i % 5) as f32, 2.0 + (i / 5) as f32, 0.0),
+            lit: vec![lit_in_tile(TILE, 0, 0)],
+        })
         .collect();
-    // One cloth with about as many particles: 143² = 20 449 against 20 × 32² = 20 480.
-    let one = [(143u32, Vec3::new(0.0, 4.0, 0.0))];
-    println!("\n| scene (through the plugin) | particles | ms per step (median of 240) |");
-    println!("|---|---|---|");
+    let (columns, rows) = (5 * TILE, 4 * TILE);
+    let one = [SceneCloth {
+        columns,
+        rows,
+        at: Vec3::new(0.0, 4.0, 0.0),
+        lit: (0..20)
+            .map(|i| lit_in_tile(columns, i % 5, i / 5))
+            .collect(),
+    }];
+    println!("\n| scene (through the plugin) | particles | fires | ms per step (median of 240) |");
+    println!("|---|---|---|---|");
     let many = app_step_ms(&twenty, 240);
-    println!("| twenty 32 x 32 cloths | 20480 | {many:.3} |");
+    println!("| twenty 32 x 32 cloths | 20480 | 20 | {many:.3} |");
     let single = app_step_ms(&one, 240);
-    println!("| one 143 x 143 cloth | 20449 | {single:.3} |");
+    println!("| one 160 x 128 cloth | 20480 | 20 | {single:.3} |");
+    // The same cloth with one fire, near its bottom centre: what the front's work adds.
+    let one_fire = [SceneCloth {
+        lit: vec![((rows - 2) * columns + columns / 2) as usize],
+        ..one[0]
+    }];
+    let quiet = app_step_ms(&one_fire, 240);
+    println!("| one 160 x 128 cloth | 20480 | 1 | {quiet:.3} |");
 }
 
 /// Times the smoke pool on a burning cloth: (ms per step emitting, ms per step advancing,
@@ -400,6 +437,10 @@ fn main() {
     if std::env::args().any(|a| a == "--plume-only") {
         #[cfg(feature = "fluid")]
         plume_table(pool);
+        return;
+    }
+    if std::env::args().any(|a| a == "--many-only") {
+        many_cloths_table();
         return;
     }
     if std::env::args().any(|a| a == "--default-only") {

@@ -221,7 +221,8 @@ fn for_each_near_fire(
     }
     let (low, high) = (low - Vec3::splat(radius), high + Vec3::splat(radius));
     let inside = |p: Vec3| p.cmpge(low).all() && p.cmple(high).all();
-    workspace.hash.build(position, radius, |j| {
+    // Cells twice the radius: a query visits at most 8 of them instead of 27.
+    workspace.hash.build(position, 2.0 * radius, |j| {
         !state[j].is_burnt() && inside(position[j])
     });
     let hash = core::mem::take(&mut workspace.hash);

@@ -78,7 +78,9 @@ impl SpatialHash {
     }
 
     /// Calls `visit(j)` once for every included point `j` within `radius` of `point`
-    /// (`radius` at most the cell size; larger radii are clamped to it).
+    /// (`radius` at most the cell size; larger radii are clamped to it). Only the cells the
+    /// query's bounding box overlaps are visited: at most 8 when `radius` is at most half the
+    /// cell size (build with cells twice the radius for that), at most 27 otherwise.
     pub fn for_each_within(
         &self,
         positions: &[Vec3],
@@ -91,11 +93,14 @@ impl SpatialHash {
         }
         let radius = radius.min(self.cell_size);
         let radius_squared = radius * radius;
-        let centre = self.cell_of(point);
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let cell = centre + IVec3::new(dx, dy, dz);
+        let (low, high) = (
+            self.cell_of(point - Vec3::splat(radius)),
+            self.cell_of(point + Vec3::splat(radius)),
+        );
+        for z in low.z..=high.z {
+            for y in low.y..=high.y {
+                for x in low.x..=high.x {
+                    let cell = IVec3::new(x, y, z);
                     let bucket = self.bucket_of(cell) as usize;
                     let range =
                         self.bucket_start[bucket] as usize..self.bucket_start[bucket + 1] as usize;
@@ -173,15 +178,20 @@ mod tests {
         positions.push(Vec3::splat(1.0e6));
         let mut hash = SpatialHash::default();
         let radius = 0.1;
-        hash.build(&positions, radius, |i| i % 7 != 0);
-        for (i, &p) in positions.iter().enumerate() {
-            let mut found = Vec::new();
-            hash.for_each_within(&positions, p, radius, |j| found.push(j));
-            found.sort_unstable();
-            let expected: Vec<usize> = (0..positions.len())
-                .filter(|&j| j % 7 != 0 && positions[j].distance(p) <= radius)
-                .collect();
-            assert_eq!(found, expected, "point {i}");
+        // Cells as large as the radius (up to 27 visited) and twice as large (up to 8), queried
+        // at the points and between them.
+        for cell_size in [radius, 2.0 * radius, 0.37] {
+            hash.build(&positions, cell_size, |i| i % 7 != 0);
+            let between = positions.windows(2).map(|w| 0.5 * (w[0] + w[1]));
+            for (i, p) in positions.iter().copied().chain(between).enumerate() {
+                let mut found = Vec::new();
+                hash.for_each_within(&positions, p, radius, |j| found.push(j));
+                found.sort_unstable();
+                let expected: Vec<usize> = (0..positions.len())
+                    .filter(|&j| j % 7 != 0 && positions[j].distance(p) <= radius)
+                    .collect();
+                assert_eq!(found, expected, "point {i}, cells {cell_size} m");
+            }
         }
     }
 

@@ -133,12 +133,28 @@ pub struct XpbdSolver {
     tethers_for: Option<f32>,
     /// Whether the slots' tether targets hold their pins' positions.
     targets_valid: bool,
-    /// This frame's springs under the stretch limit: live, in-plane, movable.
-    limited: Vec<u32>,
-    /// The springs the last stretch-limit pass corrected, and the ones the pass before it
-    /// did (the list the next pass revisits).
+    /// This frame's springs under the stretch limit (live, in-plane, movable), with what a
+    /// pass reads of each, in spring order.
+    limited: Vec<LimitedSpring>,
+    /// The places in `limited` the last stretch-limit pass corrected, and the ones the pass
+    /// before it did (the list the next pass revisits).
     corrected: Vec<u32>,
     recheck: Vec<u32>,
+}
+
+/// A spring under the stretch limit for one frame: its ends' slots and inverse masses and its
+/// longest allowed length, gathered once a frame so a substep's pass reads one array in order
+/// instead of following four indices per spring.
+#[derive(Clone, Copy, Debug, Default)]
+struct LimitedSpring {
+    a: u32,
+    b: u32,
+    wa: f32,
+    wb: f32,
+    /// The allowed length, m (`scale ×` the rest length).
+    limit: f32,
+    /// The squared length past which the spring is corrected, m² (the limit and its tolerance).
+    past: f32,
 }
 
 /// What reading the particles found out about the pins.
@@ -268,7 +284,7 @@ impl XpbdSolver {
             + self.dirty.capacity()
             + self.pin_slots.capacity()
             + self.pin_index.capacity()
-            + self.limited.capacity()
+            + self.limited.capacity() * (size_of::<LimitedSpring>() / size_of::<f32>())
             + self.corrected.capacity()
             + self.recheck.capacity())
             * size_of::<f32>()
@@ -315,7 +331,9 @@ impl XpbdSolver {
         }
         self.w.clear();
         self.w.resize(n, f32::NAN);
-        for list in [&mut self.limited, &mut self.corrected, &mut self.recheck] {
+        self.limited.clear();
+        self.limited.reserve(springs.len());
+        for list in [&mut self.corrected, &mut self.recheck] {
             list.clear();
             list.reserve(springs.len());
         }
@@ -380,20 +398,16 @@ impl XpbdSolver {
         for substep in 0..substeps {
             self.project_springs(springs, pool);
             if let Some(limit) = around.stretch_limit.filter(|limit| limit.passes > 0) {
-                let ends = LimitEnds {
-                    springs,
-                    slot: &self.slot,
-                    w: &self.w,
-                };
-                let scale = 1.0 + limit.stretch.max(0.0);
                 let slots = &mut self.slots;
-                limit_stretch(slots, &self.limited, scale, &ends, &mut self.corrected);
+                let all = 0..self.limited.len() as u32;
+                limit_stretch(slots, &self.limited, all, &mut self.corrected);
                 for _ in 1..limit.passes {
                     if self.corrected.is_empty() {
                         break;
                     }
                     core::mem::swap(&mut self.corrected, &mut self.recheck);
-                    limit_stretch(slots, &self.recheck, scale, &ends, &mut self.corrected);
+                    let again = self.recheck.iter().copied();
+                    limit_stretch(slots, &self.limited, again, &mut self.corrected);
                 }
             }
             if refresh {
@@ -413,7 +427,8 @@ impl XpbdSolver {
     }
 
     /// This frame's springs under the stretch limit: those of the limit's list that are
-    /// in-plane, live and have a movable end.
+    /// in-plane, live and have a movable end, each with its ends' slots and inverse masses
+    /// and its allowed length.
     fn gather_limited(
         &mut self,
         particles: &Particles,
@@ -421,18 +436,35 @@ impl XpbdSolver {
         limit: Option<StretchLimit>,
     ) {
         self.limited.clear();
-        let Some(limit) = limit else {
+        let Some(limit) = limit.filter(|limit| limit.passes > 0) else {
             return;
         };
-        let w = &self.w;
-        self.limited
-            .extend(limit.springs.iter().copied().filter(|&s| {
-                let s = s as usize;
-                s < springs.len()
-                    && springs.kind[s].is_in_plane()
-                    && springs.is_live(s, &particles.state)
-                    && w[springs.a[s] as usize] + w[springs.b[s] as usize] > 0.0
-            }));
+        let scale = 1.0 + limit.stretch.max(0.0);
+        let (w, slot) = (&self.w, &self.slot);
+        self.limited.extend(limit.springs.iter().filter_map(|&s| {
+            let s = s as usize;
+            if s >= springs.len()
+                || !springs.kind[s].is_in_plane()
+                || !springs.is_live(s, &particles.state)
+            {
+                return None;
+            }
+            let (i, j) = (springs.a[s] as usize, springs.b[s] as usize);
+            let (wa, wb) = (w[i], w[j]);
+            if wa + wb <= 0.0 {
+                return None;
+            }
+            let limit = scale * springs.rest_length[s];
+            let past = limit * (1.0 + STRETCH_TOLERANCE);
+            Some(LimitedSpring {
+                a: slot[i],
+                b: slot[j],
+                wa,
+                wb,
+                limit,
+                past: past * past,
+            })
+        }));
     }
 
     /// Copies the particles in (and a grid's rest lengths into lane order), in parts over
@@ -821,53 +853,40 @@ enum Phase {
     Finish,
 }
 
-/// The per-slot pass over all slots, split into contiguous parts across threads when a pool
-/// is given (each slot is independent, so the split changes nothing).
-/// What [`limit_stretch`] reads of the cloth: its springs, each particle's slot and inverse
-/// mass.
-struct LimitEnds<'a> {
-    springs: &'a Springs,
-    slot: &'a [u32],
-    w: &'a [f32],
-}
-
-/// One pass of Provot's correction over `springs` (live in-plane springs with a movable
-/// end): each one longer than `scale ×` its rest length is pulled back to that length, the
-/// move shared by inverse mass, on the substep's positions `x + u` (the move goes into `u`,
-/// so the velocity follows). In list order, on this thread: the list is the burning front's,
-/// small. The springs it corrected go into `corrected` (cleared first); the next pass
-/// revisits only those, so a pass after the first costs what is still over the limit, not
-/// the whole front.
+/// One pass of Provot's correction over the springs at `places` in `limited`: each one
+/// longer than its allowed length is pulled back to it, the move shared by inverse mass, on
+/// the substep's positions `x + u` (the move goes into `u`, so the velocity follows). In list
+/// order, on this thread: the list is the burning front's, small. The places it corrected go
+/// into `corrected` (cleared first); the next pass revisits only those, so a pass after the
+/// first costs what is still over the limit, not the whole front.
 fn limit_stretch(
     slots: &mut SlotArrays,
-    springs_to_check: &[u32],
-    scale: f32,
-    ends: &LimitEnds,
+    limited: &[LimitedSpring],
+    places: impl Iterator<Item = u32>,
     corrected: &mut Vec<u32>,
 ) {
     let SlotArrays { x, u, .. } = slots;
-    let springs = ends.springs;
     corrected.clear();
-    for &s in springs_to_check {
-        let spring = s as usize;
-        let (i, j) = (springs.a[spring] as usize, springs.b[spring] as usize);
-        let (a, b) = (ends.slot[i] as usize, ends.slot[j] as usize);
+    for place in places {
+        let spring = limited[place as usize];
+        let (a, b) = (spring.a as usize, spring.b as usize);
         let e: [f32; 3] = core::array::from_fn(|k| (x[k][a] + u[k][a]) - (x[k][b] + u[k][b]));
-        let length = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
-        let limit = scale * springs.rest_length[spring];
-        if length <= limit * (1.0 + STRETCH_TOLERANCE) {
+        let squared = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        if squared <= spring.past {
             continue;
         }
-        let (wa, wb) = (ends.w[i], ends.w[j]);
-        let share = (length - limit) / (length * (wa + wb));
+        let length = squared.sqrt();
+        let share = (length - spring.limit) / (length * (spring.wa + spring.wb));
         for k in 0..3 {
-            u[k][a] -= e[k] * share * wa;
-            u[k][b] += e[k] * share * wb;
+            u[k][a] -= e[k] * share * spring.wa;
+            u[k][b] += e[k] * share * spring.wb;
         }
-        corrected.push(s);
+        corrected.push(place);
     }
 }
 
+/// The per-slot pass over all slots, split into contiguous parts across threads when a pool
+/// is given (each slot is independent, so the split changes nothing).
 fn per_slot(
     slots: &mut SlotArrays,
     pool: Option<&TaskPool>,
