@@ -7,7 +7,7 @@
 //! ```
 //!
 //! Writes `OUT_DIR/spread.md` (default `target/report/`); each case runs at most 60 s of
-//! simulated time by default, at spacings of 50, 25 and 12.5 mm.
+//! simulated time by default (slow downward fronts need `300`), at spacings of 50, 25 and 12.5 mm.
 
 use bevy_burning_cloth::report::{self, spread};
 use std::time::Instant;

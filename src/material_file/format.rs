@@ -11,7 +11,7 @@ use serde::de::DeserializeSeed;
 /// The first lines of every file [`material_to_ron`] writes.
 const HEADER: &str = "\
 // A bevy_burning_cloth material (BurnMaterial). Units: kg/m², N/m, N·s/m³, °C, 1/s, °C/s,
-// N/(m·s·°C); each field is documented on BurnMaterial. Loaded by BurnMaterialLoader.
+// N/(m·s·°C), m/s; each field is documented on BurnMaterial. Loaded by BurnMaterialLoader.
 ";
 
 /// Why a material file could not be read or written.

@@ -162,6 +162,9 @@ impl ClothSim {
     pub fn extinguish(&mut self, region: Option<(Vec3, f32)>, to: Option<f32>) -> u32 {
         let material = self.settings.material;
         let to = to.unwrap_or_else(|| extinguished_temperature(&material));
+        self.workspace
+            .flames
+            .put_out(&self.particles.position, region);
         extinguish(
             &self.particles.position,
             &mut self.particles.temperature,

@@ -82,6 +82,16 @@ pub struct BurnMaterial {
     pub shrink_factor: f32,
     /// Smallest rest length a spring may shrink to, as a fraction of its initial length.
     pub min_rest_fraction: f32,
+    /// Flame spread straight up a vertical panel of this cloth in still air, m/s (the
+    /// physical heat model; see [`super::flame`]). The flame at the burning edge heats the
+    /// cloth next to it with `speed × areal heat capacity × (T_ignition − T_initial)` per
+    /// metre of edge, so this is the speed a straight front climbs when nothing else heats or
+    /// cools it.
+    pub flame_spread_up: f32,
+    /// Flame spread sideways along a vertical panel, m/s (physical heat model).
+    pub flame_spread_sideways: f32,
+    /// Flame spread straight down a vertical panel, m/s (physical heat model).
+    pub flame_spread_down: f32,
 }
 
 impl BurnMaterial {
@@ -103,6 +113,10 @@ impl BurnMaterial {
         self_heating_rate: 260.0,
         shrink_factor: 0.015,
         min_rest_fraction: 0.5,
+        // Generic woven cloth, 200 g/m²: between cotton and denim (no measurement of its own).
+        flame_spread_up: 0.070,
+        flame_spread_sideways: 0.008,
+        flame_spread_down: 0.0015,
     };
 
     /// Silk: light, ignites at 289 °F (142.8 °C), burns fast.
@@ -123,6 +137,11 @@ impl BurnMaterial {
         self_heating_rate: 400.0,
         shrink_factor: 0.008,
         min_rest_fraction: 0.4,
+        // 60 g/m²: lighter than cotton, so quicker (spread on a thin fuel goes as one over its
+        // mass per area); ordered as the paper's Figure 9, no measurement of its own.
+        flame_spread_up: 0.120,
+        flame_spread_sideways: 0.015,
+        flame_spread_down: 0.003,
     };
 
     /// Denim: heavy, ignites at 410 °F (210 °C), burns slowly.
@@ -143,6 +162,10 @@ impl BurnMaterial {
         self_heating_rate: 160.0,
         shrink_factor: 0.03,
         min_rest_fraction: 0.6,
+        // 400 g/m²: heavier than cotton, so slower (Figure 9's order; no measurement of its own).
+        flame_spread_up: 0.045,
+        flame_spread_sideways: 0.005,
+        flame_spread_down: 0.001,
     };
 
     /// Paper: light and stiff in bending, ignites at 451 °F (232.8 °C).
@@ -163,6 +186,12 @@ impl BurnMaterial {
         self_heating_rate: 350.0,
         shrink_factor: 0.05,
         min_rest_fraction: 0.3,
+        // 80 g/m² paper: about 4 mm/s horizontally, from the mass burning rates in Thomas &
+        // Law's review of flame spread over thin fuels; upward and downward chosen between
+        // (a thin fuel burns down about as fast as sideways in still air).
+        flame_spread_up: 0.060,
+        flame_spread_sideways: 0.004,
+        flame_spread_down: 0.003,
     };
 
     /// Cotton: medium weight, ignites at 410 °F (210 °C).
@@ -183,6 +212,11 @@ impl BurnMaterial {
         self_heating_rate: 240.0,
         shrink_factor: 0.02,
         min_rest_fraction: 0.5,
+        // Vertical cotton panels: about 90 mm/s up, 11 mm/s sideways and 2 mm/s down (Mathur,
+        // Vikas and Kale, flame spread on textiles).
+        flame_spread_up: 0.090,
+        flame_spread_sideways: 0.011,
+        flame_spread_down: 0.002,
     };
 
     /// Every preset, in the order of the paper's Figure 2.
@@ -230,6 +264,9 @@ impl BurnMaterial {
             ("heat_spread_rate", self.heat_spread_rate),
             ("self_heating_rate", self.self_heating_rate),
             ("shrink_factor", self.shrink_factor),
+            ("flame_spread_up", self.flame_spread_up),
+            ("flame_spread_sideways", self.flame_spread_sideways),
+            ("flame_spread_down", self.flame_spread_down),
         ];
         for (field, value) in non_negative {
             if !(value.is_finite() && value >= 0.0) {

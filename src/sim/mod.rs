@@ -52,6 +52,7 @@ pub mod conduction;
 pub mod derived;
 pub mod energy;
 pub mod error;
+pub mod flame;
 pub mod forces;
 pub mod front;
 pub mod grid;

@@ -195,13 +195,16 @@ pub struct PhysicalHeat {
 }
 
 impl PhysicalHeat {
-    /// Values tuned for game cloth with particles about 3 cm apart: a 16 × 16 cotton cloth
-    /// lit at the bottom burns away in about 8 s, the fire climbing faster than it spreads
-    /// sideways. Conduction is the heat equation and convection a transport in m/s, so the
-    /// same values spread fire at the same speed at any spacing (`examples/spread_report.rs`).
+    /// Values for real fabric: the flame at the burning edge carries the fire, at the
+    /// material's measured spread speeds ([`super::flame`]); conduction along the cloth is a
+    /// fabric's (a conductivity of about 0.05 W/(m·K) over a volumetric heat capacity of about
+    /// 5e5 J/(m³·K): 1e-7 m²/s, a few millimetres in a minute); no extra upward transport
+    /// (the flame already climbs faster than it spreads); cooling to still air at 0.05 /s;
+    /// a burning particle reaches the burnt temperature in about a second. The same values
+    /// spread fire at the same speed at any spacing (`examples/spread_report.rs`).
     pub const GAME: Self = Self {
-        diffusivity: 6e-4,
-        convection: 2.0,
+        diffusivity: 1e-7,
+        convection: 0.0,
         cooling: 0.05,
         burn_heating: 1000.0,
     };

@@ -21,6 +21,7 @@ use super::anchors::DetachedPiece;
 use super::collision::{WorldCollider, resolve_collisions};
 use super::combustion::CombustionReport;
 use super::conduction::{Air, conduction_step};
+use super::flame::{FlameParams, flame_step};
 use super::front::Counts;
 use super::guard::BlowUpGuard;
 use super::heat::{paper_heat_step, proximity_heat_step};
@@ -236,6 +237,7 @@ impl ClothMut<'_> {
             heat,
             front,
             conduction,
+            flames,
             ..
         } = &mut *self.workspace;
         let params = &derived.heat;
@@ -259,6 +261,13 @@ impl ClothMut<'_> {
                         conduction,
                         h,
                     );
+                }
+                if !(front.ignited().is_empty() && flames.sources().is_empty()) {
+                    let flame = FlameParams {
+                        material: &self.settings.material,
+                        up: params.up,
+                    };
+                    flame_step(front, self.springs, particles, &flame, flames, h);
                 }
                 proximity_heat_step(front, particles, params, heat, h);
             }

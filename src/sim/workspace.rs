@@ -3,6 +3,7 @@
 
 use super::anchors::Anchors;
 use super::derived::DerivedParams;
+use super::flame::Flames;
 use super::front::Front;
 use super::guard::BlowUpGuard;
 use super::heat::HeatWorkspace;
@@ -27,6 +28,8 @@ pub struct ClothWorkspace {
     pub(crate) front: Front,
     /// Scratch of the physical heat model.
     pub(crate) conduction: Vec<f32>,
+    /// The flames at the burning edge (physical heat model).
+    pub(crate) flames: Flames,
     /// The cloth's stable symplectic step, s, computed on first use after a material change.
     stable_step: Option<f32>,
 }
@@ -43,6 +46,7 @@ impl ClothWorkspace {
             anchors: Anchors::default(),
             front: Front::default(),
             conduction: Vec::new(),
+            flames: Flames::default(),
             stable_step: None,
         }
     }
@@ -80,6 +84,7 @@ impl ClothWorkspace {
     /// what): the next step works it out anew from the cloth's data, reusing the memory.
     pub fn restart(&mut self) {
         self.front.restart();
+        self.flames.clear();
         self.anchors.invalidate();
         self.stable_step = None;
     }
@@ -98,5 +103,6 @@ impl ClothWorkspace {
             + self.anchors.heap_bytes()
             + self.front.heap_bytes()
             + self.conduction.capacity() * size_of::<f32>()
+            + self.flames.heap_bytes()
     }
 }

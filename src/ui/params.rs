@@ -35,7 +35,7 @@ impl<T> FieldRange<T> {
 }
 
 /// The material fields the panel edits.
-pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 12] = [
+pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 15] = [
     FieldRange {
         label: "mass",
         unit: "kg/m²",
@@ -120,6 +120,27 @@ pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 12] = [
         logarithmic: false,
         field: |m| &mut m.min_rest_fraction,
     },
+    FieldRange {
+        label: "flame up",
+        unit: "m/s",
+        range: 1e-4..=1.0,
+        logarithmic: true,
+        field: |m| &mut m.flame_spread_up,
+    },
+    FieldRange {
+        label: "flame sideways",
+        unit: "m/s",
+        range: 1e-4..=1.0,
+        logarithmic: true,
+        field: |m| &mut m.flame_spread_sideways,
+    },
+    FieldRange {
+        label: "flame down",
+        unit: "m/s",
+        range: 1e-4..=1.0,
+        logarithmic: true,
+        field: |m| &mut m.flame_spread_down,
+    },
 ];
 
 /// Range of Provot's stretch limit (rest length multiples).
@@ -135,7 +156,7 @@ pub const GRAVITY: RangeInclusive<f32> = -30.0..=30.0;
 /// Ranges of the physical heat model: diffusivity (m²/s), convection, i.e. the upward bias
 /// (1/s), cooling (1/s), burn heating (°C/s).
 pub const PHYSICAL_HEAT: [RangeInclusive<f32>; 4] =
-    [1e-6..=1e-2, 0.0..=20.0, 0.0..=2.0, 0.0..=5000.0];
+    [1e-8..=1e-2, 0.0..=20.0, 0.0..=2.0, 0.0..=5000.0];
 
 /// Everything the panel edits for one cloth and the world.
 #[derive(Clone, Copy, Debug, PartialEq)]
