@@ -4,8 +4,8 @@
 //!
 //! Each case runs a [`ClothSim`] as a game would (default solver, 1/60 s frames):
 //! - **Vertical panel**: 1 m × 1 m, held flat in its frame (every particle pinned, as the
-//!   measured panels are), one particle lit at its centre. A direction's speed is `0.3 m / (t(0.4 m) − t(0.1 m))`, where `t(d)` is when the
-//!   particle `d` away from the lit one along the grid (in the cloth's own, rest coordinates)
+//!   measured panels are), one particle lit at its centre. A direction's speed is
+//!   `0.3 m / (t(0.4 m) − t(0.1 m))`, where `t(d)` is when the particle `d` away from the lit one along the grid (in the cloth's own, rest coordinates)
 //!   first ignites. Starting at 0.1 m leaves out the ignition transient.
 //! - **45° strip** (16 CFR 1610): 50 mm wide, 160 mm long, every particle held in its frame,
 //!   tilted 45° from the vertical, its bottom row lit. The result is the time for the front
@@ -98,12 +98,7 @@ pub fn vertical_panel(case: &SpreadCase, limit: f32) -> Result<PanelSpread, Clot
     let n = (1.0 / case.spacing).round() as u32 + 1;
     // Held flat, every particle pinned, as the measured panels are held in frames: a panel
     // hanging free crumples and swings, and its fire runs along folds at other angles.
-    let mut builder = ClothBuilder::grid(n, n, case.spacing);
-    for row in 0..n {
-        for column in 0..n {
-            builder = builder.pin(column, row);
-        }
-    }
+    let builder = ClothBuilder::grid(n, n, case.spacing).pin_all();
     let mut sim = ClothSim::new(
         &builder,
         case.material,
@@ -140,12 +135,7 @@ pub fn vertical_panel(case: &SpreadCase, limit: f32) -> Result<PanelSpread, Clot
 pub fn inclined_strip(case: &SpreadCase, limit: f32) -> Result<Option<f32>, ClothError> {
     let columns = (0.05 / case.spacing).round() as u32 + 1;
     let rows = (0.16 / case.spacing).round() as u32 + 1;
-    let mut builder = ClothBuilder::grid(columns, rows, case.spacing);
-    for row in 0..rows {
-        for column in 0..columns {
-            builder = builder.pin(column, row);
-        }
-    }
+    let builder = ClothBuilder::grid(columns, rows, case.spacing).pin_all();
     // Rows run down the strip; tilt it 45° about the horizontal axis across it.
     let tilt = Quat::from_rotation_x(core::f32::consts::FRAC_PI_4);
     let mut sim = ClothSim::new(

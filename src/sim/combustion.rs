@@ -24,6 +24,11 @@ pub fn extinguished_temperature(material: &BurnMaterial) -> f32 {
         + 0.9 * (material.ignition_temperature - material.initial_temperature)
 }
 
+/// Whether `p` is within `radius` of `centre` (every point is within `None`).
+pub fn in_region(region: Option<(Vec3, f32)>, p: Vec3) -> bool {
+    region.is_none_or(|(centre, radius)| p.distance_squared(centre) <= radius * radius)
+}
+
 /// Puts a fire out: every unburnt particle within `radius` of `centre` (every particle with
 /// `region = None`) is cooled to at most `to` (never above the material's ignition
 /// temperature), and the ignited ones among them become intact. Burnt particles stay burnt.
@@ -48,12 +53,7 @@ pub fn extinguish(
     }
     let mut cooled = 0;
     for ((p, t), s) in position.iter().zip(temperature).zip(state) {
-        if *s == BurnState::Burnt {
-            continue;
-        }
-        if let Some((centre, radius)) = region
-            && p.distance_squared(centre) > radius * radius
-        {
+        if *s == BurnState::Burnt || !in_region(region, *p) {
             continue;
         }
         if *t > to || t.is_nan() {

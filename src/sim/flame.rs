@@ -40,6 +40,7 @@
 //! for at most [`FLAME_WINDOW`] crossing times. The time a particle caught is tracked within
 //! the step, so the front does not lag by a step per particle.
 
+use super::combustion::in_region;
 use super::front::Front;
 use super::material::{BurnMaterial, MAX_TEMPERATURE};
 use super::particles::{BurnState, Particles};
@@ -137,12 +138,7 @@ impl Flames {
     /// the cloth there is no longer heated by the burnt patch next to it, and a flame that
     /// reaches it later heats it from the temperature it has then.
     pub fn put_out(&mut self, position: &[Vec3], region: Option<(Vec3, f32)>) {
-        let inside = |i: usize| match region {
-            Some((centre, radius)) => position
-                .get(i)
-                .is_some_and(|p| p.distance_squared(centre) <= radius * radius),
-            None => true,
-        };
+        let inside = |i: usize| position.get(i).is_some_and(|&p| in_region(region, p));
         let mut place = 0;
         while place < self.sources.len() {
             let i = self.sources[place] as usize;
@@ -328,12 +324,7 @@ mod tests {
     /// side of the lit centre of a flat, held cotton panel catches, at `spacing` m.
     fn catch_time(spacing: f32, columns: i32, rows_up: i32) -> f32 {
         let n = (0.5 / spacing).round() as u32 + 1;
-        let mut builder = ClothBuilder::grid(n, n, spacing);
-        for row in 0..n {
-            for column in 0..n {
-                builder = builder.pin(column, row);
-            }
-        }
+        let builder = ClothBuilder::grid(n, n, spacing).pin_all();
         let mut sim = ClothSim::new(&builder, BurnMaterial::COTTON, Affine3A::IDENTITY).unwrap();
         sim.update_settings(|s| s.solver.heat_model = HeatModel::PHYSICAL)
             .unwrap();

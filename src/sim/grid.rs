@@ -153,6 +153,17 @@ impl ClothBuilder {
         self.pin_top_every(1)
     }
 
+    /// Pins every particle: a cloth held flat in a frame (a test panel, a banner fixed to a
+    /// wall) that burns but does not move.
+    pub fn pin_all(mut self) -> Self {
+        for row in 0..self.rows {
+            for column in 0..self.columns {
+                self.pins.push((column, row));
+            }
+        }
+        self
+    }
+
     /// Lays the grid in `plane`.
     pub fn in_plane(mut self, plane: GridPlane) -> Self {
         self.plane = plane;

@@ -134,7 +134,7 @@ pub struct XpbdSolver {
     /// Whether the slots' tether targets hold their pins' positions.
     targets_valid: bool,
     /// This frame's springs under the stretch limit (live, in-plane, movable), with what a
-    /// pass reads of each, in spring order.
+    /// pass reads of each, in the order of the front's heated-spring list.
     limited: Vec<LimitedSpring>,
     /// The places in `limited` the last stretch-limit pass corrected, and the ones the pass
     /// before it did (the list the next pass revisits).
