@@ -34,7 +34,7 @@
 //! | [`mesh`] | a cloth's vertex data for drawing: local positions, normals, burn data |
 //! | [`anchors`] | what each particle hangs from: nearest pin and distance through the cloth, kept up to date as it burns; pieces burnt loose |
 //! | [`energy`] | a cloth's mechanical energy |
-//! | [`parallel`] | work split over Bevy's task pool, the same result on any number of threads |
+//! | [`parallel`] | work split over Bevy's task pool (parts, or a frame of phases under one scope), the same result on any number of threads |
 //!
 //! Units: metres, kilograms, seconds, degrees Celsius.
 //!

@@ -12,6 +12,7 @@
 //! | [`lanes`] | a grid's particles in quarter grids and its springs in long lanes, in bands |
 //! | `kernel` | the projection loops over plain `f32` arrays, four springs at a time |
 //! | `adjacency` | each particle's springs, so a burn or a pin touches only those |
+//! | `stretch_limit` | Provot's limit on the heated springs, sorted into the grid's bands |
 //! | [`XpbdSolver`] | a cloth's state as separate arrays, and the substep loop |
 //!
 //! Where its accuracy ends: one constraint pass per substep does not solve stiff springs
@@ -23,5 +24,6 @@ mod adjacency;
 mod kernel;
 pub mod lanes;
 mod solver;
+mod stretch_limit;
 
 pub use solver::{StretchLimit, Surroundings, XpbdSolver};

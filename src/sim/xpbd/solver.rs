@@ -1,21 +1,23 @@
 //! [`XpbdSolver`]: one cloth's XPBD state and the substep loop.
 //!
-//! A substep is three passes, each split across threads when the cloth is big enough and a
-//! task pool with more than one thread is given: the grid's even bands of springs, its odd
-//! bands, then one pass over the particles (tethers, colliders, the velocity update and the
-//! next substep's prediction). Bands solved together share no particle and particles are
-//! independent in the last pass, so the result is the same on any number of threads.
+//! A substep is four passes: the grid's even bands of springs, its odd bands, the stretch
+//! limit on the heated springs (even bands, odd bands, then any left over), then one pass over
+//! the particles (tethers, colliders, the velocity update and the next substep's prediction).
+//! The frame's passes are listed once (`XpbdSolver::plan_passes`) and run under one scope of
+//! the task pool when the cloth is big enough ([`run_phases`]). Bands solved together share
+//! no particle and particles are independent in the last pass, so the result is the same on
+//! any number of threads.
 
 use super::adjacency::Adjacency;
 use super::kernel::{Arrays, RunData, project_indexed, project_shared, project_split};
 use super::lanes::{Band, GridLanes, GridSlots, Lane};
+use super::stretch_limit::{Flat, LimitedSprings, Rows, limit_all, limit_bucket};
 use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
 use crate::sim::forces::ForceParams;
 use crate::sim::guard::GuardSettings;
-use crate::sim::parallel::{for_each_part, parts_for, pieces};
+use crate::sim::parallel::{Claims, Disjoint, for_each_part, parts_for, pieces, run_phases};
 use crate::sim::particles::Particles;
-use crate::sim::provot::STRETCH_TOLERANCE;
 use crate::sim::springs::{SpringCoefficients, SpringKind, Springs};
 use crate::sim::topology::GridShape;
 use bevy::tasks::TaskPool;
@@ -27,6 +29,10 @@ const BAND_ROWS: u32 = 8;
 /// Slots below which a cloth is stepped on one thread: splitting smaller ones costs more in
 /// handing work out than it saves.
 const PARALLEL_SLOTS: usize = 8192;
+
+/// Slots per run of the per-slot pass, at least; and at most this many runs.
+const SLOT_PART: usize = 512;
+const MAX_SLOT_PARTS: usize = 16;
 
 /// No spring: a lane element past the grid's edge.
 const PHANTOM: u32 = u32::MAX;
@@ -133,28 +139,12 @@ pub struct XpbdSolver {
     tethers_for: Option<f32>,
     /// Whether the slots' tether targets hold their pins' positions.
     targets_valid: bool,
-    /// This frame's springs under the stretch limit (live, in-plane, movable), with what a
-    /// pass reads of each, in the order of the front's heated-spring list.
-    limited: Vec<LimitedSpring>,
-    /// The places in `limited` the last stretch-limit pass corrected, and the ones the pass
-    /// before it did (the list the next pass revisits).
-    corrected: Vec<u32>,
-    recheck: Vec<u32>,
-}
-
-/// A spring under the stretch limit for one frame: its ends' slots and inverse masses and its
-/// longest allowed length, gathered once a frame so a substep's pass reads one array in order
-/// instead of following four indices per spring.
-#[derive(Clone, Copy, Debug, Default)]
-struct LimitedSpring {
-    a: u32,
-    b: u32,
-    wa: f32,
-    wb: f32,
-    /// The allowed length, m (`scale ×` the rest length).
-    limit: f32,
-    /// The squared length past which the spring is corrected, m² (the limit and its tolerance).
-    past: f32,
+    /// This frame's springs under the stretch limit, by band.
+    limited: LimitedSprings,
+    /// The frame's passes with the items each is cut into, and the items alone.
+    passes: Vec<(Pass, usize)>,
+    pass_sizes: Vec<usize>,
+    claims: Claims,
 }
 
 /// What reading the particles found out about the pins.
@@ -284,11 +274,11 @@ impl XpbdSolver {
             + self.dirty.capacity()
             + self.pin_slots.capacity()
             + self.pin_index.capacity()
-            + self.limited.capacity() * (size_of::<LimitedSpring>() / size_of::<f32>())
-            + self.corrected.capacity()
-            + self.recheck.capacity())
+            + self.pass_sizes.capacity())
             * size_of::<f32>()
             + self.pin_positions.capacity() * size_of::<[f32; 3]>()
+            + self.passes.capacity() * size_of::<(Pass, usize)>()
+            + self.limited.heap_bytes()
             + layout
             + self.slots.heap_bytes()
             + self.adjacency.heap_bytes()
@@ -331,12 +321,11 @@ impl XpbdSolver {
         }
         self.w.clear();
         self.w.resize(n, f32::NAN);
-        self.limited.clear();
-        self.limited.reserve(springs.len());
-        for list in [&mut self.corrected, &mut self.recheck] {
-            list.clear();
-            list.reserve(springs.len());
-        }
+        let grid_lanes = match (&self.layout, grid) {
+            (Layout::Grid { slots, lanes, .. }, Some(grid)) => Some((lanes, *slots, grid.columns)),
+            _ => None,
+        };
+        self.limited.prepare(grid_lanes, springs.len());
         for array in [&mut self.rest, &mut self.ca, &mut self.cb] {
             array.clear();
             array.resize(elements, 0.0);
@@ -385,8 +374,8 @@ impl XpbdSolver {
         };
         self.gather_limited(particles, springs, around.stretch_limit);
         // Tether targets stay where they are while the pins stand still.
-        let mut refresh = tethered && (!self.targets_valid || pins.moving);
-        let mut step = Substep {
+        let refresh = tethered && (!self.targets_valid || pins.moving);
+        let step = Substep {
             h,
             drag: around.params.drag_per_mass.max(0.0),
             colliders: around.colliders,
@@ -394,77 +383,30 @@ impl XpbdSolver {
             tethered,
             refresh_targets: false,
         };
-        per_slot(&mut self.slots, pool, &[], &step, Phase::PredictOnly);
-        for substep in 0..substeps {
-            self.project_springs(springs, pool);
-            if let Some(limit) = around.stretch_limit.filter(|limit| limit.passes > 0) {
-                let slots = &mut self.slots;
-                let all = 0..self.limited.len() as u32;
-                limit_stretch(slots, &self.limited, all, &mut self.corrected);
-                for _ in 1..limit.passes {
-                    if self.corrected.is_empty() {
-                        break;
-                    }
-                    core::mem::swap(&mut self.corrected, &mut self.recheck);
-                    let again = self.recheck.iter().copied();
-                    limit_stretch(slots, &self.limited, again, &mut self.corrected);
-                }
-            }
-            if refresh {
-                self.place_pins();
-            }
-            step.refresh_targets = refresh;
-            let phase = if substep + 1 < substeps {
-                Phase::FinishAndPredict
-            } else {
-                Phase::Finish
-            };
-            per_slot(&mut self.slots, pool, &self.pin_positions, &step, phase);
-            refresh = tethered && pins.moving;
-        }
+        let shared = pool.is_some_and(|pool| pool.thread_num() > 0);
+        self.plan_passes(substeps, shared, [refresh, tethered && pins.moving]);
+        let passes = around.stretch_limit.map_or(0, |limit| limit.passes);
+        self.run_passes(springs, &step, passes, pool);
         self.targets_valid = tethered && !pins.moving;
         (self.write(particles, &around.guard, pool), pins.changed)
     }
 
-    /// This frame's springs under the stretch limit: those of the limit's list that are
-    /// in-plane, live and have a movable end, each with its ends' slots and inverse masses
-    /// and its allowed length.
+    /// This frame's springs under the stretch limit.
     fn gather_limited(
         &mut self,
         particles: &Particles,
         springs: &Springs,
         limit: Option<StretchLimit>,
     ) {
-        self.limited.clear();
-        let Some(limit) = limit.filter(|limit| limit.passes > 0) else {
-            return;
-        };
-        let scale = 1.0 + limit.stretch.max(0.0);
-        let (w, slot) = (&self.w, &self.slot);
-        self.limited.extend(limit.springs.iter().filter_map(|&s| {
-            let s = s as usize;
-            if s >= springs.len()
-                || !springs.kind[s].is_in_plane()
-                || !springs.is_live(s, &particles.state)
-            {
-                return None;
+        match limit.filter(|limit| limit.passes > 0) {
+            Some(limit) => {
+                let scale = 1.0 + limit.stretch.max(0.0);
+                let ends = (self.w.as_slice(), self.slot.as_slice());
+                self.limited
+                    .gather(limit.springs, particles, springs, ends, scale);
             }
-            let (i, j) = (springs.a[s] as usize, springs.b[s] as usize);
-            let (wa, wb) = (w[i], w[j]);
-            if wa + wb <= 0.0 {
-                return None;
-            }
-            let limit = scale * springs.rest_length[s];
-            let past = limit * (1.0 + STRETCH_TOLERANCE);
-            Some(LimitedSpring {
-                a: slot[i],
-                b: slot[j],
-                wa,
-                wb,
-                limit,
-                past: past * past,
-            })
-        }));
+            None => self.limited.clear(),
+        }
     }
 
     /// Copies the particles in (and a grid's rest lengths into lane order), in parts over
@@ -616,57 +558,195 @@ impl XpbdSolver {
         };
     }
 
-    /// Where the tethers' pins are in this substep.
-    fn place_pins(&mut self) {
-        let SlotArrays { x, u, .. } = &self.slots;
-        for (position, &slot) in self.pin_positions.iter_mut().zip(&self.pin_slots).skip(1) {
-            let s = slot as usize;
-            *position = core::array::from_fn(|axis| x[axis][s] + u[axis][s]);
+    /// Lists the frame's passes and how many items each is cut into: the first prediction,
+    /// then per substep the springs (a grid's even bands, then its odd bands, an item per band;
+    /// a mesh's springs as one item), the stretch limit on the springs in the grid's bands
+    /// (even bands, then odd ones), the limit on the rest and the pins' positions when needed
+    /// (one item), and the per-slot pass (one item on one thread; shared between threads, a
+    /// grid's band's rows or runs of slots). `refresh`: whether the tether targets must be
+    /// looked up again in the first substep, and in the later ones.
+    fn plan_passes(&mut self, substeps: u32, shared: bool, refresh: [bool; 2]) {
+        let limiting = !self.limited.is_empty();
+        let rest = self.limited.has_rest();
+        let (slot_parts, bands) = match &self.layout {
+            Layout::Grid { lanes, .. } => (
+                lanes.bands.len(),
+                [lanes.bands.len().div_ceil(2), lanes.bands.len() / 2],
+            ),
+            _ => (
+                self.slots
+                    .len()
+                    .div_ceil(SLOT_PART)
+                    .clamp(1, MAX_SLOT_PARTS),
+                [1, 0],
+            ),
+        };
+        let slot_parts = if shared { slot_parts } else { 1 };
+        self.passes.clear();
+        self.passes.push((Pass::Predict, slot_parts));
+        for substep in 0..substeps {
+            let refresh = refresh[usize::from(substep > 0)];
+            self.passes.push((Pass::Springs(0), bands[0]));
+            self.passes.push((Pass::Springs(1), bands[1]));
+            let banded = shared && matches!(self.layout, Layout::Grid { .. });
+            if limiting && banded {
+                self.passes.push((Pass::Limit(0), bands[0]));
+                self.passes.push((Pass::Limit(1), bands[1]));
+            }
+            let limit = match (limiting, banded) {
+                (false, _) => Leftover::None,
+                (true, true) if rest => Leftover::Rest,
+                (true, true) => Leftover::None,
+                (true, false) => Leftover::All,
+            };
+            if limit != Leftover::None || refresh {
+                self.passes.push((Pass::Rest { limit, refresh }, 1));
+            }
+            let last = substep + 1 == substeps;
+            self.passes
+                .push((Pass::Finish { last, refresh }, slot_parts));
         }
+        self.pass_sizes.clear();
+        self.pass_sizes
+            .extend(self.passes.iter().map(|&(_, items)| items));
     }
 
-    /// One Gauss–Seidel pass over every spring: a grid's even bands, then its odd bands (each
-    /// split across threads when there is a pool); a mesh's springs in stored order.
-    fn project_springs(&mut self, springs: &Springs, pool: Option<&TaskPool>) {
-        let SlotArrays { x, u, .. } = &mut self.slots;
-        match &self.layout {
-            Layout::Grid { slots, lanes, .. } => {
-                let elements = Elements {
-                    rest: &self.rest,
-                    ca: &self.ca,
-                    cb: &self.cb,
-                    gamma: self.gamma,
-                };
-                for parity in 0..2 {
-                    project_bands(x, u, *slots, lanes, parity, &elements, pool);
+    /// Runs the planned passes, on `pool`'s threads when one is given (see [`run_phases`]):
+    /// items of one pass touch disjoint slots, and each pass starts when the one before it
+    /// has finished, so the result is the same on any number of threads.
+    #[allow(unsafe_code)]
+    fn run_passes(
+        &mut self,
+        springs: &Springs,
+        step: &Substep,
+        limit_passes: u32,
+        pool: Option<&TaskPool>,
+    ) {
+        let shared = SharedSlots::new(&mut self.slots);
+        let pin_positions = Disjoint::new(&mut self.pin_positions);
+        let buckets = self.limited.share();
+        let (passes, layout, pin_slots) = (&self.passes, &self.layout, &self.pin_slots);
+        let elements = Elements {
+            rest: &self.rest,
+            ca: &self.ca,
+            cb: &self.cb,
+            gamma: self.gamma,
+        };
+        let parts = self.pass_sizes.first().copied().unwrap_or(1);
+        // The slots of a per-slot item: a grid's band's rows in each quarter grid (the rows
+        // whose springs the same end of the pool just projected), else a run of slots.
+        let runs = |item: usize| -> [core::ops::Range<usize>; 4] {
+            match layout {
+                Layout::Grid {
+                    slots: grid, lanes, ..
+                } if parts > 1 => {
+                    let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
+                    let rows = &lanes.bands[item].rows;
+                    let (start, end) = (rows.start as usize * width, rows.end as usize * width);
+                    four(|q| q * quarter + start..q * quarter + end)
+                }
+                _ => {
+                    let (n, size) = (shared.len(), shared.len().div_ceil(parts));
+                    [
+                        (item * size).min(n)..((item + 1) * size).min(n),
+                        0..0,
+                        0..0,
+                        0..0,
+                    ]
                 }
             }
-            Layout::Indexed => {
-                let [x0, x1, x2] = &*x;
-                let [u0, u1, u2] = u;
-                let mut arrays = Arrays {
-                    x: [x0, x1, x2],
-                    u: [u0, u1, u2],
-                };
-                // A stretch of springs of one kind at a time (each kind has its own damping).
-                let n = springs.len();
-                let mut start = 0;
-                while start < n {
-                    let kind = springs.kind[start];
-                    let end = (start..n).find(|&s| springs.kind[s] != kind).unwrap_or(n);
-                    let data = RunData {
-                        rest: &springs.rest_length[start..end],
-                        ca: &self.ca[start..end],
-                        cb: &self.cb[start..end],
-                        gamma: self.gamma[kind as usize],
+        };
+        let claims = &mut self.claims;
+        run_phases(pool, &self.pass_sizes, claims, |phase, item| {
+            match passes[phase].0 {
+                Pass::Predict => {
+                    for run in runs(item) {
+                        // SAFETY: the items of a pass take disjoint runs of slots.
+                        let mut slots = unsafe { shared.chunk(run) };
+                        slots.run(&[], step, Phase::PredictOnly);
+                    }
+                }
+                Pass::Springs(parity) => match layout {
+                    Layout::Grid {
+                        slots: grid, lanes, ..
+                    } => {
+                        let band = &lanes.bands[parity as usize + 2 * item];
+                        // SAFETY: bands of one parity reach disjoint rows, and x is not written
+                        // while springs are projected.
+                        let view = unsafe { shared.band(*grid, band) };
+                        project_band(view, &lanes.lanes[band.lanes.clone()], &elements);
+                    }
+                    Layout::Indexed => {
+                        // SAFETY: a mesh's springs are one item, the pass's only one.
+                        let (x, u) = unsafe { shared.positions() };
+                        project_all_indexed(x, u, springs, &elements);
+                    }
+                    Layout::Unset => {}
+                },
+                Pass::Limit(parity) => {
+                    let Layout::Grid {
+                        slots: grid, lanes, ..
+                    } = layout
+                    else {
+                        return;
                     };
-                    let (a, b) = (&springs.a[start..end], &springs.b[start..end]);
-                    project_indexed(&mut arrays, a, b, data);
-                    start = end;
+                    let band = parity as usize + 2 * item;
+                    let reach = lanes.bands[band].reach.clone();
+                    // SAFETY: bands of one parity reach disjoint rows, each has its own bucket,
+                    // and x is not written while springs are limited.
+                    let (mut rows, lists) =
+                        unsafe { (shared.rows(*grid, reach), buckets.bucket(band)) };
+                    limit_bucket(&mut rows, lists, limit_passes);
+                }
+                Pass::Rest { limit, refresh } => {
+                    match (limit, layout) {
+                        (Leftover::None, _) => {}
+                        (Leftover::Rest, Layout::Grid { slots: grid, .. }) => {
+                            let rows = 0..grid.quarter_len() / grid.width();
+                            // SAFETY: the only item of its pass, and the only one with this bucket.
+                            let (mut rows, lists) = unsafe {
+                                (shared.rows(*grid, rows), buckets.bucket(buckets.rest()))
+                            };
+                            limit_bucket(&mut rows, lists, limit_passes);
+                        }
+                        _ => {
+                            // SAFETY: the only item of its pass.
+                            let (x, u) = unsafe { shared.positions() };
+                            limit_all(&mut Flat { x, u }, &buckets, limit_passes);
+                        }
+                    }
+                    if refresh {
+                        // SAFETY: the only item of its pass; only this pass writes the pins'
+                        // positions, and none reads them meanwhile.
+                        let ((x, u), positions) = unsafe {
+                            (
+                                shared.positions(),
+                                pin_positions.part(0..pin_positions.len()),
+                            )
+                        };
+                        place_pins((x, u), pin_slots, positions);
+                    }
+                }
+                Pass::Finish { last, refresh } => {
+                    // SAFETY: the pins' positions are written only in the limit's pass.
+                    let pins = unsafe { pin_positions.read(0..pin_positions.len()) };
+                    let phase = if last {
+                        Phase::Finish
+                    } else {
+                        Phase::FinishAndPredict
+                    };
+                    let step = Substep {
+                        refresh_targets: refresh,
+                        ..*step
+                    };
+                    for run in runs(item) {
+                        // SAFETY: the items of a pass take disjoint runs of slots.
+                        let mut slots = unsafe { shared.chunk(run) };
+                        slots.run(pins, &step, phase);
+                    }
                 }
             }
-            Layout::Unset => {}
-        }
+        });
     }
 
     /// Copies the free particles back, putting back any that went non-finite or ran away
@@ -730,57 +810,6 @@ struct BandView<'a> {
     base: usize,
 }
 
-/// Projects the lanes of the bands of one parity (0: even, 1: odd), in parallel when a pool
-/// is given. The bands' reaches do not overlap, so each gets its own slices.
-fn project_bands(
-    x: &[Vec<f32>; 3],
-    u: &mut [Vec<f32>; 3],
-    slots: GridSlots,
-    lanes: &GridLanes,
-    parity: usize,
-    elements: &Elements,
-    pool: Option<&TaskPool>,
-) {
-    let quarter = slots.quarter_len() as usize;
-    let width = slots.width() as usize;
-    let x_quarters: [[&[f32]; 4]; 3] = core::array::from_fn(|axis| {
-        core::array::from_fn(|q| &x[axis][q * quarter..(q + 1) * quarter])
-    });
-    let [u0, u1, u2] = u;
-    let mut rest_of = [u0, u1, u2].map(|axis| {
-        let mut quarters = axis.chunks_exact_mut(quarter);
-        let q: [&mut [f32]; 4] = core::array::from_fn(|_| quarters.next().unwrap_or_default());
-        q
-    });
-    let mut taken = 0;
-    let views = lanes.bands.iter().skip(parity).step_by(2).map(move |band| {
-        let (start, end) = (
-            band.reach.start as usize * width,
-            band.reach.end as usize * width,
-        );
-        let skip = start - taken;
-        taken = end;
-        let u: [[&mut [f32]; 4]; 3] = core::array::from_fn(|axis| {
-            core::array::from_fn(|q| {
-                let whole = core::mem::take(&mut rest_of[axis][q]);
-                let (_, after) = whole.split_at_mut(skip);
-                let (mine, later) = after.split_at_mut(end - start);
-                rest_of[axis][q] = later;
-                mine
-            })
-        });
-        let x =
-            core::array::from_fn(|axis| core::array::from_fn(|q| &x_quarters[axis][q][start..]));
-        (
-            BandView { x, u, base: start },
-            &lanes.lanes[band.lanes.clone()],
-        )
-    });
-    for_each_part(pool, views, |(view, band_lanes)| {
-        project_band(view, band_lanes, elements)
-    });
-}
-
 /// Projects one band's lanes in order.
 fn project_band(mut view: BandView, lanes: &[Lane], elements: &Elements) {
     for lane in lanes {
@@ -795,12 +824,13 @@ fn project_band(mut view: BandView, lanes: &[Lane], elements: &Elements) {
         let (a, b) = (lane.a as usize - view.base, lane.b as usize - view.base);
         let len = lane.len as usize;
         if qa == qb {
-            let x = core::array::from_fn(|axis| view.x[axis][qa]);
-            let mut u: [&mut [f32]; 3] = view.u.each_mut().map(|quarters| &mut *quarters[qa]);
+            let x = three(|axis| view.x[axis][qa]);
+            let [u0, u1, u2] = &mut view.u;
+            let mut u: [&mut [f32]; 3] = [&mut *u0[qa], &mut *u1[qa], &mut *u2[qa]];
             project_shared(x, &mut u, a, b, data);
         } else {
-            let xa = core::array::from_fn(|axis| &view.x[axis][qa][a..a + len]);
-            let xb = core::array::from_fn(|axis| &view.x[axis][qb][b..b + len]);
+            let xa = three(|axis| &view.x[axis][qa][a..a + len]);
+            let xb = three(|axis| &view.x[axis][qb][b..b + len]);
             let (mut ua, mut ub) = split_quarters(&mut view.u, qa, qb, (a, b), len);
             project_split((xa, xb), &mut ua, &mut ub, data);
         }
@@ -853,51 +883,183 @@ enum Phase {
     Finish,
 }
 
-/// One pass of Provot's correction over the springs at `places` in `limited`: each one
-/// longer than its allowed length is pulled back to it, the move shared by inverse mass, on
-/// the substep's positions `x + u` (the move goes into `u`, so the velocity follows). In list
-/// order, on this thread: the list is the burning front's, small. The places it corrected go
-/// into `corrected` (cleared first); the next pass revisits only those, so a pass after the
-/// first costs what is still over the limit, not the whole front.
-fn limit_stretch(
-    slots: &mut SlotArrays,
-    limited: &[LimitedSpring],
-    places: impl Iterator<Item = u32>,
-    corrected: &mut Vec<u32>,
+/// Where the tethers' pins are in this substep: `positions[k]` of the pin in slot
+/// `pin_slots[k]` (entry 0 stands for none and is left alone).
+fn place_pins(
+    (x, u): ([&[f32]; 3], [&mut [f32]; 3]),
+    pin_slots: &[u32],
+    positions: &mut [[f32; 3]],
 ) {
-    let SlotArrays { x, u, .. } = slots;
-    corrected.clear();
-    for place in places {
-        let spring = limited[place as usize];
-        let (a, b) = (spring.a as usize, spring.b as usize);
-        let e: [f32; 3] = core::array::from_fn(|k| (x[k][a] + u[k][a]) - (x[k][b] + u[k][b]));
-        let squared = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-        if squared <= spring.past {
-            continue;
-        }
-        let length = squared.sqrt();
-        let share = (length - spring.limit) / (length * (spring.wa + spring.wb));
-        for k in 0..3 {
-            u[k][a] -= e[k] * share * spring.wa;
-            u[k][b] += e[k] * share * spring.wb;
-        }
-        corrected.push(place);
+    for (position, &slot) in positions.iter_mut().zip(pin_slots).skip(1) {
+        let s = slot as usize;
+        *position = three(|axis| x[axis][s] + u[axis][s]);
     }
 }
 
-/// The per-slot pass over all slots, split into contiguous parts across threads when a pool
-/// is given (each slot is independent, so the split changes nothing).
-fn per_slot(
-    slots: &mut SlotArrays,
-    pool: Option<&TaskPool>,
-    pins: &[[f32; 3]],
-    step: &Substep,
-    phase: Phase,
-) {
-    let parts = parts_for(pool, slots.len(), 1024);
-    for_each_part(pool, slots.parts(parts), |mut chunk| {
-        chunk.run(pins, step, phase)
-    });
+/// One Gauss–Seidel pass over a mesh's springs in stored order, a run of springs of one kind
+/// at a time (each kind has its own damping).
+fn project_all_indexed(x: [&[f32]; 3], u: [&mut [f32]; 3], springs: &Springs, elements: &Elements) {
+    let mut arrays = Arrays { x, u };
+    let n = springs.len();
+    let mut start = 0;
+    while start < n {
+        let kind = springs.kind[start];
+        let end = (start..n).find(|&s| springs.kind[s] != kind).unwrap_or(n);
+        let data = RunData {
+            rest: &springs.rest_length[start..end],
+            ca: &elements.ca[start..end],
+            cb: &elements.cb[start..end],
+            gamma: elements.gamma[kind as usize],
+        };
+        let (a, b) = (&springs.a[start..end], &springs.b[start..end]);
+        project_indexed(&mut arrays, a, b, data);
+        start = end;
+    }
+}
+
+/// One pass of a frame's substeps, as [`XpbdSolver::run_passes`] runs it.
+#[derive(Clone, Copy, Debug)]
+enum Pass {
+    /// The first substep's prediction, over runs of slots.
+    Predict,
+    /// The springs of a grid's bands of one parity (0: even, 1: odd), an item per band; a
+    /// mesh's springs (parity 0) as one item.
+    Springs(u8),
+    /// The stretch limit on the springs in a grid's bands of one parity, an item per band.
+    Limit(u8),
+    /// The stretch limit on the springs `limit` names and the pins' positions (when
+    /// `refresh`), as one item.
+    Rest { limit: Leftover, refresh: bool },
+    /// Tethers (their targets looked up again when `refresh`), colliders, the velocity
+    /// update and, unless `last`, the next substep's prediction, over runs of slots.
+    Finish { last: bool, refresh: bool },
+}
+
+/// Which limited springs a [`Pass::Rest`] corrects.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Leftover {
+    /// None (there are none, or the bands took them all).
+    None,
+    /// Those outside the grid's bands, after the bands' passes.
+    Rest,
+    /// All of them, band by band and then the rest, on one thread.
+    All,
+}
+
+/// The per-slot arrays handed to the threads of a frame's passes, each item taking the part
+/// its pass gives it.
+struct SharedSlots<'a> {
+    particle: Disjoint<'a, u32>,
+    x: [Disjoint<'a, f32>; 3],
+    v: [Disjoint<'a, f32>; 3],
+    u: [Disjoint<'a, f32>; 3],
+    acceleration: [Disjoint<'a, f32>; 3],
+    free: Disjoint<'a, f32>,
+    moving: Disjoint<'a, f32>,
+    tether_pin: Disjoint<'a, u32>,
+    tether_length: Disjoint<'a, f32>,
+    tether_target: [Disjoint<'a, f32>; 3],
+}
+
+#[allow(unsafe_code)]
+impl<'a> SharedSlots<'a> {
+    fn new(slots: &'a mut SlotArrays) -> Self {
+        let axes = |a: &'a mut [Vec<f32>; 3]| a.each_mut().map(|a| Disjoint::new(a));
+        Self {
+            particle: Disjoint::new(&mut slots.particle),
+            x: axes(&mut slots.x),
+            v: axes(&mut slots.v),
+            u: axes(&mut slots.u),
+            acceleration: axes(&mut slots.acceleration),
+            free: Disjoint::new(&mut slots.free),
+            moving: Disjoint::new(&mut slots.moving),
+            tether_pin: Disjoint::new(&mut slots.tether_pin),
+            tether_length: Disjoint::new(&mut slots.tether_length),
+            tether_target: axes(&mut slots.tether_target),
+        }
+    }
+
+    /// Slots in all.
+    fn len(&self) -> usize {
+        self.free.len()
+    }
+
+    /// Every array's slots in `range`.
+    ///
+    /// # Safety
+    /// Nothing else uses these slots while the chunk is used.
+    unsafe fn chunk(&self, range: core::ops::Range<usize>) -> SlotChunk<'a> {
+        let axes = |a: &[Disjoint<'a, f32>; 3]| {
+            // SAFETY: the caller's promise.
+            three(|axis| unsafe { a[axis].part(range.clone()) })
+        };
+        // SAFETY: the caller's promise.
+        unsafe {
+            SlotChunk {
+                particle: self.particle.part(range.clone()),
+                x: axes(&self.x),
+                v: axes(&self.v),
+                u: axes(&self.u),
+                acceleration: axes(&self.acceleration),
+                free: self.free.part(range.clone()),
+                moving: self.moving.part(range.clone()),
+                tether_pin: self.tether_pin.part(range.clone()),
+                tether_length: self.tether_length.part(range.clone()),
+                tether_target: axes(&self.tether_target),
+            }
+        }
+    }
+
+    /// What a band of a grid laid out as `grid` projects: the displacements of its reach's
+    /// rows in every quarter grid, and the positions from its reach's first row on.
+    ///
+    /// # Safety
+    /// As [`Self::rows`].
+    unsafe fn band(&self, grid: GridSlots, band: &Band) -> BandView<'a> {
+        // SAFETY: the caller's promise.
+        let Rows { x, u } = unsafe { self.rows(grid, band.reach.clone()) };
+        BandView {
+            x,
+            u,
+            base: (band.reach.start * grid.width()) as usize,
+        }
+    }
+
+    /// The displacements of the rows `reach` of a grid laid out as `grid` in every quarter
+    /// grid, and the positions from `reach`'s first row on.
+    ///
+    /// # Safety
+    /// Nothing else uses the displacements of these rows while these are used, and no
+    /// position is written meanwhile.
+    unsafe fn rows(&self, grid: GridSlots, reach: core::ops::Range<u32>) -> Rows<'a> {
+        let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
+        let (start, end) = (reach.start as usize * width, reach.end as usize * width);
+        Rows {
+            // SAFETY: the caller's promise.
+            x: three(|axis| {
+                four(|q| unsafe { self.x[axis].read(q * quarter + start..(q + 1) * quarter) })
+            }),
+            // SAFETY: the caller's promise.
+            u: three(|axis| {
+                four(|q| unsafe { self.u[axis].part(q * quarter + start..q * quarter + end) })
+            }),
+        }
+    }
+
+    /// All positions to read and all displacements to write.
+    ///
+    /// # Safety
+    /// Nothing else uses the displacements or writes a position while these are used.
+    unsafe fn positions(&self) -> ([&'a [f32]; 3], [&'a mut [f32]; 3]) {
+        let all = 0..self.len();
+        // SAFETY: the caller's promise.
+        unsafe {
+            (
+                three(|axis| self.x[axis].read(all.clone())),
+                three(|axis| self.u[axis].part(all.clone())),
+            )
+        }
+    }
 }
 
 /// A contiguous run of the per-slot arrays.
@@ -1126,6 +1288,19 @@ impl<'a> SlotChunk<'a> {
             }
         }
     }
+}
+
+/// `[f(0), f(1), f(2)]`: per axis, built in place (`core::array::from_fn` is not always
+/// inlined, and views are built for every band of every substep).
+#[inline(always)]
+fn three<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
+/// `[f(0), f(1), f(2), f(3)]`: per quarter grid, as [`three`].
+#[inline(always)]
+fn four<T>(mut f: impl FnMut(usize) -> T) -> [T; 4] {
+    [f(0), f(1), f(2), f(3)]
 }
 
 /// The particles a spring involves: its ends and the particles it passes over.

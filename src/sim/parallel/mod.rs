@@ -1,6 +1,11 @@
 //! Work split over Bevy's task pool: parts that touch disjoint data, run on the pool's
 //! threads (and the calling thread) when the crate is built with `parallel`, else one after
 //! another. Results never depend on how the parts are scheduled.
+//!
+//! Two shapes: [`for_each_part`], one job cut into parts under a scope of its own; and
+//! [`run_phases`], a frame's many short passes under one scope, each pass's items run by
+//! whichever thread takes them (with `Disjoint` handing each item its part of arrays that
+//! the next pass cuts differently).
 
 use bevy::tasks::TaskPool;
 
@@ -39,3 +44,9 @@ pub fn pieces<T>(slice: &mut [T], parts: usize) -> impl Iterator<Item = &mut [T]
     let size = slice.len().div_ceil(parts.max(1)).max(1);
     slice.chunks_mut(size)
 }
+
+mod disjoint;
+mod phases;
+
+pub(crate) use disjoint::Disjoint;
+pub use phases::{Claims, run_phases};

@@ -1,0 +1,495 @@
+//! Provot's stretch limit on the springs heat has shrunk, as the XPBD solver runs it: the
+//! frame's limited springs sorted into the grid's bands, so the bands of one parity are
+//! corrected at the same time, on any thread, with the same result.
+//!
+//! A limited spring is in-plane (structural or shear), so its ends are at most one row
+//! apart: a spring whose upper end is in band `b` lies within `b`'s reach (its rows and the
+//! two below), and bands two apart share no particle. A spring that does not fit (a cut
+//! spring whose end has moved further) goes into a last bucket, corrected on its own after
+//! the bands. A mesh's springs are all in that last bucket.
+
+use super::lanes::{GridLanes, GridSlots};
+use crate::sim::parallel::Disjoint;
+use crate::sim::particles::Particles;
+use crate::sim::provot::STRETCH_TOLERANCE;
+use crate::sim::springs::Springs;
+
+/// Bits of a packed end that hold the index within its quarter grid; the quarter is above.
+const INDEX_BITS: u32 = 30;
+
+/// A spring under the stretch limit for one frame: its ends (as slots, and packed: quarter
+/// grid and index from the first row of its bucket's reach) and their inverse masses, and its
+/// longest allowed length; gathered once a frame so a substep's pass reads one array in order.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct LimitedSpring {
+    slots: [u32; 2],
+    packed: [u32; 2],
+    wa: f32,
+    wb: f32,
+    /// The allowed length, m (`scale ×` the rest length).
+    limit: f32,
+    /// The squared length past which the spring is corrected, m² (the limit and its tolerance).
+    past: f32,
+}
+
+/// Positions to read and displacements to write, per axis and quarter grid, from the first
+/// row of a reach on (for a mesh: quarter 0 holds every slot).
+pub(super) struct Rows<'a> {
+    pub x: [[&'a [f32]; 4]; 3],
+    pub u: [[&'a mut [f32]; 4]; 3],
+}
+
+/// Where a grid's rows are: its slots, and the band each row's springs are in.
+#[derive(Clone, Debug, Default)]
+struct GridPlaces {
+    slots: Option<GridSlots>,
+    columns: u32,
+    band_of_row: Vec<u32>,
+    /// Each band's first row and the end of its reach.
+    reach: Vec<(u32, u32)>,
+}
+
+/// The frame's limited springs, by bucket (a grid's bands, then one for the rest), and the
+/// lists of a bucket's passes.
+#[derive(Clone, Debug, Default)]
+pub(super) struct LimitedSprings {
+    places: GridPlaces,
+    springs: Vec<LimitedSpring>,
+    /// Where each bucket starts in `springs`; one entry more than there are buckets.
+    start: Vec<u32>,
+    /// Scratch for sorting: each spring with its bucket, and where each bucket's next goes.
+    gathered: Vec<(u32, LimitedSpring)>,
+    next: Vec<u32>,
+    /// Per spring (in a bucket's range): the places its bucket's last pass corrected, and
+    /// the ones the pass before did.
+    corrected: Vec<u32>,
+    recheck: Vec<u32>,
+}
+
+impl LimitedSprings {
+    /// Lays out the buckets for a grid (`lanes`, `slots` and its `columns`) or, with `None`,
+    /// a mesh, and reserves room for `springs` springs and `particles` particles.
+    pub fn prepare(&mut self, grid: Option<(&GridLanes, GridSlots, u32)>, springs: usize) {
+        self.places = match grid {
+            Some((lanes, slots, columns)) => {
+                let mut band_of_row = Vec::new();
+                for (b, band) in lanes.bands.iter().enumerate() {
+                    band_of_row.extend(band.rows.clone().map(|_| b as u32));
+                }
+                GridPlaces {
+                    slots: Some(slots),
+                    columns,
+                    band_of_row,
+                    reach: lanes
+                        .bands
+                        .iter()
+                        .map(|band| (band.reach.start, band.reach.end))
+                        .collect(),
+                }
+            }
+            None => GridPlaces::default(),
+        };
+        let buckets = self.buckets();
+        for list in [&mut self.start, &mut self.next] {
+            list.clear();
+            list.reserve(buckets + 1);
+        }
+        self.springs.clear();
+        self.springs.reserve(springs);
+        self.gathered.clear();
+        self.gathered.reserve(springs);
+        for list in [&mut self.corrected, &mut self.recheck] {
+            list.clear();
+            list.reserve(springs);
+        }
+    }
+
+    /// Buckets: one per band and one for the rest.
+    fn buckets(&self) -> usize {
+        self.places.reach.len() + 1
+    }
+
+    /// No spring limited this frame.
+    pub fn clear(&mut self) {
+        self.springs.clear();
+        self.start.clear();
+    }
+
+    /// Whether no spring is limited this frame.
+    pub fn is_empty(&self) -> bool {
+        self.springs.is_empty()
+    }
+
+    /// Whether the last bucket (springs outside any band, or a mesh's) has springs.
+    pub fn has_rest(&self) -> bool {
+        let n = self.start.len();
+        n >= 2 && self.start[n - 1] > self.start[n - 2]
+    }
+
+    /// Heap memory held, bytes.
+    pub fn heap_bytes(&self) -> usize {
+        self.springs.capacity() * size_of::<LimitedSpring>()
+            + self.gathered.capacity() * size_of::<(u32, LimitedSpring)>()
+            + (self.start.capacity()
+                + self.next.capacity()
+                + self.corrected.capacity()
+                + self.recheck.capacity()
+                + self.places.band_of_row.capacity())
+                * size_of::<u32>()
+            + self.places.reach.capacity() * size_of::<(u32, u32)>()
+    }
+
+    /// This frame's springs: those of `list` that are in-plane, live and have a movable end
+    /// (inverse masses `w` by particle, slots `slot`), allowed `scale ×` their rest length,
+    /// in `list`'s order within each bucket.
+    pub fn gather(
+        &mut self,
+        list: &[u32],
+        particles: &Particles,
+        springs: &Springs,
+        (w, slot): (&[f32], &[u32]),
+        scale: f32,
+    ) {
+        let buckets = self.buckets();
+        self.springs.clear();
+        self.gathered.clear();
+        self.start.clear();
+        self.start.resize(buckets + 1, 0);
+        for &s in list {
+            let s = s as usize;
+            if s >= springs.len()
+                || !springs.kind[s].is_in_plane()
+                || !springs.is_live(s, &particles.state)
+            {
+                continue;
+            }
+            let (i, j) = (springs.a[s] as usize, springs.b[s] as usize);
+            let (wa, wb) = (w[i], w[j]);
+            if wa + wb <= 0.0 {
+                continue;
+            }
+            let limit = scale * springs.rest_length[s];
+            let past = limit * (1.0 + STRETCH_TOLERANCE);
+            let (bucket, packed) = self.places.place(i as u32, j as u32, slot);
+            self.start[bucket as usize + 1] += 1;
+            self.gathered.push((
+                bucket,
+                LimitedSpring {
+                    slots: [slot[i], slot[j]],
+                    packed,
+                    wa,
+                    wb,
+                    limit,
+                    past: past * past,
+                },
+            ));
+        }
+        for k in 1..=buckets {
+            self.start[k] += self.start[k - 1];
+        }
+        self.next.clear();
+        self.next.extend_from_slice(&self.start[..buckets]);
+        self.springs
+            .resize(self.gathered.len(), LimitedSpring::default());
+        for &(bucket, spring) in &self.gathered {
+            let at = &mut self.next[bucket as usize];
+            self.springs[*at as usize] = spring;
+            *at += 1;
+        }
+        let n = self.springs.len();
+        for list in [&mut self.corrected, &mut self.recheck] {
+            list.clear();
+            list.resize(n, 0);
+        }
+    }
+
+    /// The buckets, to hand to the threads of a frame's passes.
+    pub fn share(&mut self) -> SharedBuckets<'_> {
+        SharedBuckets {
+            springs: &self.springs,
+            start: &self.start,
+            corrected: Disjoint::new(&mut self.corrected),
+            recheck: Disjoint::new(&mut self.recheck),
+        }
+    }
+}
+
+impl GridPlaces {
+    /// The bucket of the spring joining particles `i` and `j`, and its two ends packed.
+    fn place(&self, i: u32, j: u32, slot: &[u32]) -> (u32, [u32; 2]) {
+        let (si, sj) = (slot[i as usize], slot[j as usize]);
+        let Some(slots) = self.slots else {
+            return (0, [si, sj]);
+        };
+        let (ri, rj) = (i / self.columns, j / self.columns);
+        let band = self.band_of_row[ri.min(rj) as usize];
+        let (first, end) = self.reach[band as usize];
+        let (bucket, first) = if ri.max(rj) < end {
+            (band, first)
+        } else {
+            (self.reach.len() as u32, 0)
+        };
+        let quarter = slots.quarter_len();
+        let pack = |s: u32| (s / quarter) << INDEX_BITS | (s % quarter - first * slots.width());
+        (bucket, [pack(si), pack(sj)])
+    }
+}
+
+/// The buckets handed to the threads of a frame's passes, each taking the buckets its pass
+/// gives it.
+pub(super) struct SharedBuckets<'a> {
+    springs: &'a [LimitedSpring],
+    start: &'a [u32],
+    corrected: Disjoint<'a, u32>,
+    recheck: Disjoint<'a, u32>,
+}
+
+#[allow(unsafe_code)]
+impl<'a> SharedBuckets<'a> {
+    /// Bucket `bucket`'s springs and scratch lists.
+    ///
+    /// # Safety
+    /// Nothing else uses this bucket's lists while they are used.
+    pub unsafe fn bucket(&self, bucket: usize) -> BucketLists<'a> {
+        let range = self.start[bucket] as usize..self.start[bucket + 1] as usize;
+        // SAFETY: buckets' ranges do not overlap; this one is exclusive by the caller's promise.
+        let (corrected, recheck) = unsafe {
+            (
+                self.corrected.part(range.clone()),
+                self.recheck.part(range.clone()),
+            )
+        };
+        BucketLists {
+            springs: &self.springs[range],
+            corrected,
+            recheck,
+        }
+    }
+
+    /// The last bucket: springs outside any band, or a mesh's.
+    pub fn rest(&self) -> usize {
+        self.start.len().saturating_sub(2)
+    }
+}
+
+/// One bucket's springs and the scratch lists of its passes.
+pub(super) struct BucketLists<'a> {
+    springs: &'a [LimitedSpring],
+    corrected: &'a mut [u32],
+    recheck: &'a mut [u32],
+}
+
+/// The particles a stretch-limit pass moves: where a spring's ends are, and moving them.
+pub(super) trait Ends {
+    /// End `k` of `spring` as this view names it.
+    fn end(spring: &LimitedSpring, k: usize) -> u32;
+    /// The position of `end` in this substep (`x + u`), m.
+    fn at(&self, end: u32) -> [f32; 3];
+    /// Moves `end` by `by` (added to `u`), m.
+    fn add(&mut self, end: u32, by: [f32; 3]);
+}
+
+/// Every slot's positions and displacements, ends by slot: the whole cloth on one thread.
+pub(super) struct Flat<'a> {
+    pub x: [&'a [f32]; 3],
+    pub u: [&'a mut [f32]; 3],
+}
+
+impl Ends for Flat<'_> {
+    #[inline(always)]
+    fn end(spring: &LimitedSpring, k: usize) -> u32 {
+        spring.slots[k]
+    }
+
+    #[inline(always)]
+    fn at(&self, end: u32) -> [f32; 3] {
+        let s = end as usize;
+        [
+            self.x[0][s] + self.u[0][s],
+            self.x[1][s] + self.u[1][s],
+            self.x[2][s] + self.u[2][s],
+        ]
+    }
+
+    #[inline(always)]
+    fn add(&mut self, end: u32, by: [f32; 3]) {
+        let s = end as usize;
+        self.u[0][s] += by[0];
+        self.u[1][s] += by[1];
+        self.u[2][s] += by[2];
+    }
+}
+
+impl Ends for Rows<'_> {
+    #[inline(always)]
+    fn end(spring: &LimitedSpring, k: usize) -> u32 {
+        spring.packed[k]
+    }
+
+    #[inline(always)]
+    fn at(&self, end: u32) -> [f32; 3] {
+        let (q, s) = unpack(end);
+        [
+            self.x[0][q][s] + self.u[0][q][s],
+            self.x[1][q][s] + self.u[1][q][s],
+            self.x[2][q][s] + self.u[2][q][s],
+        ]
+    }
+
+    #[inline(always)]
+    fn add(&mut self, end: u32, by: [f32; 3]) {
+        let (q, s) = unpack(end);
+        self.u[0][q][s] += by[0];
+        self.u[1][q][s] += by[1];
+        self.u[2][q][s] += by[2];
+    }
+}
+
+/// Every bucket in turn (the even bands, the odd bands, the rest), as one thread runs them:
+/// the same corrections in the same order as the bands on several threads, since bands of
+/// one parity share no particle.
+pub(super) fn limit_all(flat: &mut Flat, buckets: &SharedBuckets, passes: u32) {
+    let bands = buckets.rest();
+    for bucket in (0..bands)
+        .step_by(2)
+        .chain((1..bands).step_by(2))
+        .chain([bands])
+    {
+        // SAFETY: one bucket at a time, on this thread alone.
+        #[allow(unsafe_code)]
+        let lists = unsafe { buckets.bucket(bucket) };
+        limit_bucket(flat, lists, passes);
+    }
+}
+
+/// Up to `passes` passes of Provot's correction over a bucket's springs, in order: each one
+/// longer than its allowed length is pulled back to it, the move shared by inverse mass, on
+/// the substep's positions `x + u` (the move goes into `u`, so the velocity follows). The
+/// first pass visits every spring, each later one only those the pass before corrected, so
+/// it costs what is still over the limit, not the whole front.
+pub(super) fn limit_bucket(ends: &mut impl Ends, lists: BucketLists, passes: u32) {
+    let BucketLists {
+        springs,
+        mut corrected,
+        mut recheck,
+    } = lists;
+    let mut count = limit_pass(ends, springs, 0..springs.len() as u32, corrected);
+    for _ in 1..passes {
+        if count == 0 {
+            break;
+        }
+        core::mem::swap(&mut corrected, &mut recheck);
+        let again = recheck[..count].iter().copied();
+        count = limit_pass(ends, springs, again, corrected);
+    }
+}
+
+/// One pass over the springs at `places`; writes the places it corrected to the front of
+/// `corrected` and returns how many.
+#[inline(always)]
+fn limit_pass<E: Ends>(
+    ends: &mut E,
+    springs: &[LimitedSpring],
+    places: impl Iterator<Item = u32>,
+    corrected: &mut [u32],
+) -> usize {
+    let mut count = 0;
+    for place in places {
+        let spring = springs[place as usize];
+        let (a, b) = (E::end(&spring, 0), E::end(&spring, 1));
+        let (pa, pb) = (ends.at(a), ends.at(b));
+        let e = [pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]];
+        let squared = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        if squared <= spring.past {
+            continue;
+        }
+        let length = squared.sqrt();
+        let share = (length - spring.limit) / (length * (spring.wa + spring.wb));
+        let (wa, wb) = (spring.wa, spring.wb);
+        ends.add(
+            a,
+            [
+                -(e[0] * share * wa),
+                -(e[1] * share * wa),
+                -(e[2] * share * wa),
+            ],
+        );
+        ends.add(b, [e[0] * share * wb, e[1] * share * wb, e[2] * share * wb]);
+        corrected[count] = place;
+        count += 1;
+    }
+    count
+}
+
+/// A packed end's quarter grid and index.
+fn unpack(end: u32) -> (usize, usize) {
+    (
+        (end >> INDEX_BITS) as usize,
+        (end & ((1 << INDEX_BITS) - 1)) as usize,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::grid::ClothBuilder;
+    use crate::sim::material::BurnMaterial;
+    use glam::Affine3A;
+
+    /// Every eligible spring lands in exactly one bucket: a band whose reach holds both its
+    /// ends (the packed ends name its slots), or, if it reaches further, the last bucket.
+    #[test]
+    fn springs_go_to_the_band_that_holds_both_ends_or_to_the_rest() {
+        let (columns, rows) = (21u32, 40u32);
+        let parts = ClothBuilder::grid(columns, rows, 0.02)
+            .build(&BurnMaterial::COTTON, Affine3A::IDENTITY)
+            .unwrap();
+        let (particles, mut springs) = (parts.particles, parts.springs);
+        let grid = crate::sim::topology::GridShape { columns, rows };
+        let slots = GridSlots::new(grid);
+        let lanes = GridLanes::new(slots, 8);
+        let slot: Vec<u32> = (0..columns * rows)
+            .map(|i| slots.slot(i % columns, i / columns))
+            .collect();
+        // One structural spring rewired to reach 20 rows down (as a cut can rewire one).
+        let long = (0..springs.len())
+            .find(|&s| springs.kind[s].is_in_plane())
+            .unwrap();
+        springs.b[long] = springs.a[long] + 20 * columns;
+        let list: Vec<u32> = (0..springs.len() as u32).collect();
+        let w = vec![1.0f32; particles.len()];
+        let mut limited = LimitedSprings::default();
+        limited.prepare(Some((&lanes, slots, columns)), springs.len());
+        limited.gather(&list, &particles, &springs, (&w, &slot), 1.1);
+        let eligible = (0..springs.len())
+            .filter(|&s| springs.kind[s].is_in_plane())
+            .count();
+        assert_eq!(limited.springs.len(), eligible);
+        assert!(
+            limited.has_rest(),
+            "the long spring is left for the last bucket"
+        );
+        let quarter = slots.quarter_len();
+        let buckets = limited.share();
+        for bucket in 0..=buckets.rest() {
+            // SAFETY: one bucket at a time.
+            #[allow(unsafe_code)]
+            let lists = unsafe { buckets.bucket(bucket) };
+            let first = lanes.bands.get(bucket).map_or(0, |band| band.reach.start);
+            let end = lanes.bands.get(bucket).map_or(rows, |band| band.reach.end);
+            for spring in lists.springs {
+                for k in 0..2 {
+                    let (q, index) = unpack(spring.packed[k]);
+                    let s = spring.slots[k];
+                    assert_eq!(q as u32, s / quarter);
+                    assert_eq!(index as u32 + first * slots.width(), s % quarter);
+                    let (_, row) = slots.cell(s).unwrap();
+                    assert!((first..end).contains(&row), "bucket {bucket}: row {row}");
+                }
+            }
+            if bucket == buckets.rest() {
+                assert_eq!(lists.springs.len(), 1, "only the long spring is left over");
+            }
+        }
+    }
+}
