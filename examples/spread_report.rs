@@ -7,7 +7,8 @@
 //! ```
 //!
 //! Writes `OUT_DIR/spread.md` (default `target/report/`); each case runs at most 60 s of
-//! simulated time by default (slow downward fronts need `300`), at spacings of 50, 25 and 12.5 mm.
+//! simulated time by default (slow downward fronts need `300`), at spacings of 50, 25, 12.5 and
+//! 5 mm.
 
 use bevy_burning_cloth::report::{self, spread};
 use std::time::Instant;
@@ -20,7 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| s.parse::<f32>().map(|mm| mm / 1000.0))
         .collect::<Result<_, _>>()?;
     if spacings.is_empty() {
-        spacings = vec![0.05, 0.025, 0.0125];
+        spacings = vec![0.05, 0.025, 0.0125, 0.005];
     }
     let started = Instant::now();
     let rows = spread::study(&spread::cases(&spacings), limit)?;

@@ -228,8 +228,16 @@ pub fn cases(spacings: &[f32]) -> Vec<SpreadCase> {
     cases
 }
 
+/// A speed in mm/s: whole numbers, one decimal below 10 mm/s (where a rounding would hide a
+/// third of the value).
 fn millimetres_per_second(speed: Option<f32>) -> String {
-    speed.map_or_else(|| "never".to_owned(), |v| format!("{:.0}", v * 1000.0))
+    speed.map_or_else(
+        || "never".to_owned(),
+        |v| match v * 1000.0 {
+            mm if mm < 10.0 => format!("{mm:.1}"),
+            mm => format!("{mm:.0}"),
+        },
+    )
 }
 
 /// The study as a Markdown table, with the published figures after it.
@@ -312,14 +320,14 @@ mod tests {
     }
 
     #[test]
-    fn the_paper_model_spreads_at_the_same_speed_when_the_grid_is_twice_as_fine() {
-        // Before its push was scaled per metre, cotton's front climbed 171 mm/s at 50 mm and
-        // 95 mm/s at 25 mm (issue #16): a fixed number of particles per second. What is left
-        // is smaller than 25 %: a burning particle heats itself while the front crosses to
-        // its neighbour, which takes longer on a coarse grid (issue #16 asks for 15 %).
-        // Measured: up 109 / 106 mm/s, sideways 49 / 40, down 32 / 30 at 50 / 25 mm; cutting
-        // a cell's diagonal once the cloth along it has burnt (no heat crosses a burnt cell)
-        // took the fine grid's sideways speed from 42 to 40 mm/s, a ratio of 1.22.
+    fn the_paper_model_spreads_alike_from_50_mm_to_5_mm_spacing() {
+        // Issue #16 asks for each direction's speed within 15 % across 5 to 50 mm. Before the
+        // push was scaled per metre, cotton's front climbed 171 mm/s at 50 mm and 95 mm/s at
+        // 25 mm: a fixed number of particles per second. A catch is dated within its frame (`HeatWorkspace::apply_dated`); before, a particle started
+        // pushing a frame late, and on the 5 mm grid, whose front crosses a cell in two or
+        // three frames, cotton climbed at 89 mm/s against 99 at 50 mm (silk 137 against 176).
+        // Measured: up 100 / 101 / 96, sideways 34 / 32 / 31, down 23 / 20 / 18 mm/s at
+        // 50 / 12.5 / 5 mm.
         let at = |spacing| {
             vertical_panel(
                 &SpreadCase {
@@ -331,17 +339,20 @@ mod tests {
             )
             .unwrap()
         };
-        let (coarse, fine) = (at(0.05), at(0.025));
-        for (direction, a, b) in [
-            ("up", coarse.up, fine.up),
-            ("sideways", coarse.sideways, fine.sideways),
-            ("down", coarse.down, fine.down),
+        let runs = [at(0.05), at(0.0125), at(0.005)];
+        for (direction, speeds) in [
+            ("up", runs.map(|r| r.up)),
+            ("sideways", runs.map(|r| r.sideways)),
+            ("down", runs.map(|r| r.down)),
         ] {
-            let (a, b) = (a.expect("spreads"), b.expect("spreads"));
-            assert!(
-                (a / b - 1.0).abs() < 0.25,
-                "{direction}: {a} m/s at 50 mm, {b} m/s at 25 mm"
-            );
+            let speeds = speeds.map(|v| v.expect("spreads"));
+            let mean = speeds.iter().sum::<f32>() / 3.0;
+            for v in speeds {
+                assert!(
+                    (v / mean - 1.0).abs() <= 0.15,
+                    "{direction}: {speeds:?} m/s at 50, 12.5 and 5 mm"
+                );
+            }
         }
     }
 

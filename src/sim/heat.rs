@@ -72,6 +72,8 @@ pub struct HeatParams {
     pub self_heating_rate: f32,
     /// Temperature the push is measured from, °C.
     pub initial_temperature: f32,
+    /// Temperature above which a particle is on fire, °C: where the push dates a catch.
+    pub ignition_temperature: f32,
     /// World up, unit vector: heat rises along it.
     pub up: Vec3,
     /// Particles this close to a burning one are heated even without a spring, m.
@@ -93,6 +95,7 @@ impl HeatParams {
             spread_rate: material.heat_spread_rate,
             self_heating_rate: material.self_heating_rate,
             initial_temperature: material.initial_temperature,
+            ignition_temperature: material.ignition_temperature,
             up: Vec3::Y,
             proximity_radius,
             proximity_rate: material.heat_spread_rate,
@@ -112,12 +115,21 @@ pub struct HeatWorkspace {
     marked: Vec<bool>,
     /// Hash of the unburnt particles near the fire, for proximity heating.
     hash: SpatialHash,
+    /// Per particle, s: how long before the end of the last step it caught (crossed the
+    /// ignition temperature), so its first push makes up for the part of the step it was
+    /// already burning; zero but for the particles in `caught`.
+    owed: Vec<f32>,
+    caught: Vec<u32>,
 }
 
 impl HeatWorkspace {
     /// Heap memory held, bytes (capacity, not length).
     pub fn heap_bytes(&self) -> usize {
-        (self.delta.capacity() + self.touched.capacity()) * size_of::<f32>()
+        (self.delta.capacity()
+            + self.touched.capacity()
+            + self.owed.capacity()
+            + self.caught.capacity())
+            * size_of::<f32>()
             + self.marked.capacity()
             + self.hash.heap_bytes()
     }
@@ -132,7 +144,35 @@ impl HeatWorkspace {
             self.touched.clear();
             self.touched.reserve(n);
             self.hash.reserve(n);
+            self.owed.clear();
+            self.owed.resize(n, 0.0);
+            self.caught.clear();
+            self.caught.reserve(n);
         }
+    }
+
+    /// [`Self::apply`], dating each catch: a particle that crosses `ignition` (°C) in this step
+    /// of `h` seconds is owed the part of the step after the crossing (the increment taken as
+    /// even over the step), which its first push makes up for. Without it a catch would start
+    /// pushing only at the next step, and on a fine grid, whose front crosses a cell in a few
+    /// steps, that lag slowed the front: silk's climb on a 5 mm grid went from 137 to 149 mm/s
+    /// with the catch dated (178 at 50 mm).
+    fn apply_dated(&mut self, temperature: &mut [f32], state: &[BurnState], ignition: f32, h: f32) {
+        for &j in &self.caught {
+            self.owed[j as usize] = 0.0;
+        }
+        self.caught.clear();
+        for &j in &self.touched {
+            let j = j as usize;
+            let (before, d) = (temperature[j], self.delta[j]);
+            let after = before + d;
+            if !state[j].is_burnt() && d > 0.0 && before <= ignition && after > ignition {
+                let after_crossing = (after - ignition) / d;
+                self.owed[j] = h * after_crossing.clamp(0.0, 1.0);
+                self.caught.push(j as u32);
+            }
+        }
+        self.apply(temperature, state);
     }
 
     /// Adds `amount` (°C) to particle `j`'s increment.
@@ -176,13 +216,15 @@ pub fn paper_heat_push(
         &particles.temperature,
         &particles.state,
     );
-    let scale = params.spread_rate * h;
     for &i in front.ignited() {
         let i = i as usize;
         // Put out from outside since the list was made (extinguished): no longer burning.
         if !state[i].is_ignited() {
             continue;
         }
+        // A particle that caught during the last step also pushes for the part of it after
+        // the catch.
+        let burning = h + core::mem::take(&mut workspace.owed[i]);
         let excess = (temperature[i] - params.initial_temperature).max(0.0);
         for (_, j) in front.in_plane_neighbours(i, springs) {
             if state[j].is_burnt() {
@@ -190,9 +232,9 @@ pub fn paper_heat_push(
             }
             let direction = (position[j] - position[i]).normalize_or_zero();
             let weight = direction_weight(direction.dot(params.up));
-            workspace.add(j, weight * scale * excess);
+            workspace.add(j, weight * params.spread_rate * burning * excess);
         }
-        workspace.add(i, params.self_heating_rate * h);
+        workspace.add(i, params.self_heating_rate * burning);
     }
 }
 
@@ -312,7 +354,8 @@ pub fn paper_heat_step(
     workspace.prepare(particles.len());
     paper_heat_push(front, springs, particles, params, h, workspace);
     proximity_heat_push(front, particles, params, h, workspace);
-    workspace.apply(&mut particles.temperature, &particles.state);
+    let ignition = params.ignition_temperature;
+    workspace.apply_dated(&mut particles.temperature, &particles.state, ignition, h);
 }
 
 /// Proximity heating alone, applied at once, as an exchange that conserves heat
@@ -390,18 +433,24 @@ mod tests {
         (particles, springs, front)
     }
 
-    #[test]
-    fn push_goes_four_times_harder_up_than_sideways() {
-        let (particles, springs, front) = star(1.0, vec![1.0; 4], 115.6, true);
-        let params = HeatParams {
+    /// The push alone: rate 0.5/s, no self-heating, no proximity, ignition at 100 °C.
+    fn push_params() -> HeatParams {
+        HeatParams {
             spread_rate: 0.5,
             self_heating_rate: 0.0,
             initial_temperature: 15.6,
+            ignition_temperature: 100.0,
             up: Vec3::Y,
             proximity_radius: 0.0,
             proximity_rate: 0.0,
             physical: None,
-        };
+        }
+    }
+
+    #[test]
+    fn push_goes_four_times_harder_up_than_sideways() {
+        let (particles, springs, front) = star(1.0, vec![1.0; 4], 115.6, true);
+        let params = push_params();
         let mut workspace = HeatWorkspace::default();
         workspace.prepare(4);
         paper_heat_push(&front, &springs, &particles, &params, 0.1, &mut workspace);
@@ -416,6 +465,46 @@ mod tests {
         );
     }
 
+    /// A particle that catches a third of the way through a step pushes, in its first step
+    /// on fire, for that step and the two thirds it was already burning.
+    #[test]
+    fn a_catch_is_dated_within_its_step() {
+        let (mut particles, springs, front) = star(1.0, vec![1.0; 4], 115.6, true);
+        let params = push_params();
+        let h = 0.1;
+        let mut workspace = HeatWorkspace::default();
+        workspace.prepare(4);
+        // Particle 1 goes from 95 °C by 15 °C: it crosses 100 °C a third of the way through.
+        particles.temperature[1] = 95.0;
+        workspace.add(1, 15.0);
+        let state = particles.state.clone();
+        workspace.apply_dated(&mut particles.temperature, &state, 100.0, h);
+        assert!((workspace.owed[1] - 2.0 / 3.0 * h).abs() < 1e-6);
+        assert_eq!(workspace.owed[2], 0.0, "no catch, nothing owed");
+        // The hub's push is unchanged (it caught long ago) and the owed time is spent once.
+        paper_heat_push(&front, &springs, &particles, &params, h, &mut workspace);
+        assert!((workspace.delta[2] - 5.0).abs() < 1e-4);
+        assert_eq!(workspace.owed[0], 0.0);
+        // The next step: particle 1 (now 110 °C) is on fire.
+        let material = BurnMaterial {
+            ignition_temperature: 100.0,
+            initial_temperature: 15.6,
+            ..BurnMaterial::CLOTH
+        };
+        let mut caught = front.clone();
+        caught.scan(&mut particles, &springs, &material, &mut Vec::new());
+        assert_eq!(caught.ignited(), &[0, 1]);
+        let before = workspace.delta[0];
+        paper_heat_push(&caught, &springs, &particles, &params, h, &mut workspace);
+        // Particle 1 at 110 °C, excess 94.4 °C, pushes down onto the hub (weight below 1)
+        // for h + 2h/3.
+        let pushed = workspace.delta[0] - before;
+        let weight = direction_weight(-1.0);
+        let expected = weight * 0.5 * (h + 2.0 / 3.0 * h) * (110.0 - 15.6);
+        assert!((pushed - expected).abs() < 1e-3, "{pushed} vs {expected}");
+        assert_eq!(workspace.owed[1], 0.0, "spent");
+    }
+
     #[test]
     fn the_physical_models_proximity_heating_moves_heat_without_making_any() {
         // No springs: only proximity heats them. Unequal masses, so the exchange must weigh
@@ -425,6 +514,7 @@ mod tests {
             spread_rate: 0.0,
             self_heating_rate: 0.0,
             initial_temperature: 15.6,
+            ignition_temperature: 100.0,
             up: Vec3::Y,
             proximity_radius: 1.0,
             proximity_rate: 0.5,

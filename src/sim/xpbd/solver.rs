@@ -153,6 +153,8 @@ struct PinNews {
     changed: bool,
     /// Some pin moves this frame.
     moving: bool,
+    /// Some particle moves freely (neither pinned nor burnt).
+    free: bool,
 }
 
 /// The per-slot arrays.
@@ -365,6 +367,12 @@ impl XpbdSolver {
         let pool = around.pool.filter(|_| self.slots.len() >= PARALLEL_SLOTS);
         let pins = self.read(particles, springs, around.params, frame, pool);
         self.update_factors(particles, springs, &around.params.coefficients, h);
+        if !pins.free {
+            // Nothing moves freely (every particle pinned or burnt): the pins are already at
+            // their targets and nothing else moves, so the substeps would change nothing.
+            self.targets_valid = false;
+            return (0, pins.changed);
+        }
         let tethered = match around.tethers {
             Some((anchors, stretch)) => {
                 self.update_tethers(anchors, stretch);
@@ -421,9 +429,11 @@ impl XpbdSolver {
     ) -> PinNews {
         let mut pins_changed = false;
         let mut pins_moving = false;
+        let mut any_free = false;
         for i in 0..particles.len() {
             let burnt = particles.state[i].is_burnt();
             let pinned = particles.inv_mass[i] == 0.0;
+            any_free |= !burnt && !pinned;
             pins_moving |= pinned && !burnt && particles.velocity[i] != glam::Vec3::ZERO;
             let mass_inverse = if burnt { 0.0 } else { particles.inv_mass[i] };
             let w = &mut self.w[i];
@@ -434,6 +444,13 @@ impl XpbdSolver {
                 *w = mass_inverse;
                 self.dirty.push(i as u32);
             }
+        }
+        if !any_free {
+            return PinNews {
+                changed: pins_changed,
+                moving: pins_moving,
+                free: false,
+            };
         }
         let drag = params.drag_per_mass.max(0.0);
         let constant = params.gravity + drag * params.wind;
@@ -460,6 +477,7 @@ impl XpbdSolver {
         PinNews {
             changed: pins_changed,
             moving: pins_moving,
+            free: any_free,
         }
     }
 
