@@ -268,3 +268,48 @@ fn through_the_plugin_the_plume_carries_the_smoke_and_sleeps_after_the_fire() {
             .fold(0.0f32, |m, s| m.max(*s))
     );
 }
+
+#[test]
+fn retuning_keeps_the_air_moving_and_a_new_grid_is_refused() {
+    let mut plume = plume_around(Vec3::ZERO);
+    plume.add_heat(Vec3::new(0.0, 0.5, 0.0), 2.0e4);
+    for _ in 0..30 {
+        plume.step(DT, Vec3::ZERO, Vec3::Y);
+    }
+    let rising = plume.velocity_at(Vec3::new(0.0, 0.9, 0.0)).y;
+    assert!(rising > 0.05, "the hot air rises: {rising} m/s");
+    let (velocity, temperature) = (plume.velocity().clone(), plume.temperature().to_vec());
+    let mut untouched = plume.clone();
+    let calmer = PlumeSettings {
+        buoyancy: 0.0,
+        vorticity: 0.0,
+        ..*plume.settings()
+    };
+    plume.retune(calmer).unwrap();
+    assert_eq!(plume.settings().buoyancy, 0.0);
+    assert_eq!(plume.velocity(), &velocity, "the air is kept");
+    assert_eq!(plume.temperature(), temperature.as_slice());
+    let finer = PlumeSettings {
+        resolution: [40; 3],
+        ..*plume.settings()
+    };
+    assert!(plume.retune(finer).is_err(), "a new grid needs a new plume");
+    assert_eq!(plume.settings(), &calmer);
+    let invalid = PlumeSettings {
+        cooling: f32::NAN,
+        ..calmer
+    };
+    assert!(plume.retune(invalid).is_err());
+    // The new rates act at once: without buoyancy the hot air rises slower than it would.
+    for sim in [&mut plume, &mut untouched] {
+        for _ in 0..10 {
+            sim.step(DT, Vec3::ZERO, Vec3::Y);
+        }
+    }
+    let point = Vec3::new(0.0, 0.9, 0.0);
+    let (calm, driven) = (plume.velocity_at(point).y, untouched.velocity_at(point).y);
+    assert!(
+        calm < driven - 0.01,
+        "{calm} m/s without buoyancy, {driven} with"
+    );
+}

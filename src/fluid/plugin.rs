@@ -43,12 +43,17 @@ impl FirePlume {
         &self.settings
     }
 
-    /// Replaces the settings if they are valid; the air restarts still, in a new box, the next
-    /// time it is needed.
+    /// Replaces the settings if they are valid. New rates and strengths take effect at once
+    /// on the moving air ([`Plume::retune`]); a new grid (resolution, cell size, walls)
+    /// restarts the air still, in a new box, the next time it is needed.
     pub fn set_settings(&mut self, settings: PlumeSettings) -> Result<(), PlumeSettingsError> {
         settings.validate()?;
+        if let Some(plume) = &mut self.plume
+            && plume.retune(settings).is_err()
+        {
+            self.plume = None;
+        }
         self.settings = settings;
-        self.plume = None;
         Ok(())
     }
 

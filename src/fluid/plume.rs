@@ -127,6 +127,21 @@ impl Plume {
         }
     }
 
+    /// Takes new rates and strengths (buoyancy, vorticity, cooling, what the fire gives the
+    /// air, ...) without disturbing the air. Settings that change the grid (resolution, cell
+    /// size, walls) need a new plume: they are an error here, as are invalid ones.
+    pub fn retune(&mut self, settings: PlumeSettings) -> Result<(), PlumeSettingsError> {
+        settings.validate()?;
+        let grid = |s: &PlumeSettings| (s.resolution, s.cell_size, s.walls);
+        if grid(&settings) != grid(&self.settings) {
+            return Err(PlumeSettingsError(
+                "the resolution, cell size or walls changed: build a new plume".to_owned(),
+            ));
+        }
+        self.settings = settings;
+        Ok(())
+    }
+
     /// The settings in use.
     pub fn settings(&self) -> &PlumeSettings {
         &self.settings

@@ -19,6 +19,8 @@
 pub mod material_save;
 mod panel;
 pub mod params;
+#[cfg(feature = "fluid")]
+pub mod plume_params;
 
 pub use params::{FieldRange, MATERIAL_FIELDS, PanelValues};
 

@@ -48,7 +48,7 @@ pub(super) struct PanelParams<'w, 's> {
     #[cfg(feature = "smoke")]
     smoke: Query<'w, 's, &'static mut crate::smoke::SmokeEmitter>,
     #[cfg(feature = "fluid")]
-    fire: Option<Res<'w, crate::fluid::FirePlume>>,
+    fire: Option<ResMut<'w, crate::fluid::FirePlume>>,
     diagnostics: Option<Res<'w, DiagnosticsStore>>,
     #[cfg(feature = "material_assets")]
     material_files: Query<'w, 's, &'static crate::material_file::BurnMaterialFile>,
@@ -112,7 +112,7 @@ fn panel_contents(ui: &mut egui::Ui, p: &mut PanelParams) {
     statistics(ui, p, entity);
     timings(ui, p.diagnostics.as_deref());
     #[cfg(feature = "fluid")]
-    if let Some(fire) = p.fire.as_deref() {
+    if let Some(fire) = &mut p.fire {
         fire_air(ui, fire);
     }
     views(ui, p);
@@ -295,50 +295,91 @@ fn name_value_grid(ui: &mut egui::Ui, id: &str, rows: impl FnOnce(&mut dyn FnMut
         });
 }
 
-/// The fire's air: whether there is a plume, its box, and what its latest step did.
+/// The fire's air: whether there is a plume, its box, what its latest step did, and its
+/// settings to edit.
 #[cfg(feature = "fluid")]
-fn fire_air(ui: &mut egui::Ui, fire: &crate::fluid::FirePlume) {
+fn fire_air(ui: &mut egui::Ui, fire: &mut ResMut<crate::fluid::FirePlume>) {
     egui::CollapsingHeader::new("fire's air").show(ui, |ui| {
-        let Some(plume) = fire.plume() else {
-            ui.label("no plume yet: it is built on the first fire");
+        plume_statistics(ui, fire);
+        // Written only when edited, so the resource is not marked changed every frame.
+        if let Some(settings) = plume_settings(ui, fire.settings())
+            && let Err(error) = fire.set_settings(settings)
+        {
+            bevy::log::warn!("plume settings refused: {error}");
+        }
+    });
+}
+
+/// The plume's settings: cells a side (a new grid restarts the air) and its rates (taken at
+/// once), each edit clamped and validated ([`edit_plume`](super::plume_params::edit_plume)).
+/// Returns the edited settings, if there was an edit.
+#[cfg(feature = "fluid")]
+fn plume_settings(
+    ui: &mut egui::Ui,
+    in_use: &crate::fluid::PlumeSettings,
+) -> Option<crate::fluid::PlumeSettings> {
+    use super::plume_params::{PLUME_CELLS, PLUME_FIELDS, edit_plume};
+    let shown = egui::CollapsingHeader::new("plume settings").show(ui, |ui| {
+        let in_use = *in_use;
+        let mut edited = in_use;
+        let mut cells = in_use.resolution[0];
+        ui.add(egui::Slider::new(&mut cells, PLUME_CELLS).text("cells a side"))
+            .on_hover_text("a new grid restarts the air, still, in a box of the same size");
+        for field in &PLUME_FIELDS {
+            field_slider(ui, field, &mut edited);
+        }
+        if edited == in_use && cells == in_use.resolution[0] {
+            return None;
+        }
+        edit_plume(edited, cells, &in_use)
+            .map_err(|error| bevy::log::warn!("plume settings refused: {error}"))
+            .ok()
+    });
+    shown.body_returned.flatten()
+}
+
+/// What the plume is and what its latest step did.
+#[cfg(feature = "fluid")]
+fn plume_statistics(ui: &mut egui::Ui, fire: &crate::fluid::FirePlume) {
+    let Some(plume) = fire.plume() else {
+        ui.label("no plume yet: it is built on the first fire");
+        return;
+    };
+    let shape = plume.shape();
+    let report = plume.report();
+    let cells = shape.cells();
+    name_value_grid(ui, "plume statistics", |row| {
+        let [nx, ny, nz] = shape.dims;
+        row(
+            "grid",
+            format!("{nx} x {ny} x {nz} of {:.0} cm", shape.cell * 100.0),
+        );
+        if plume.is_quiet() {
+            row("state", "still (no work)".to_owned());
             return;
-        };
-        let shape = plume.shape();
-        let report = plume.report();
-        let cells = shape.cells();
-        name_value_grid(ui, "plume statistics", |row| {
-            let [nx, ny, nz] = shape.dims;
-            row(
-                "grid",
-                format!("{nx} x {ny} x {nz} of {:.0} cm", shape.cell * 100.0),
-            );
-            if plume.is_quiet() {
-                row("state", "still (no work)".to_owned());
-                return;
-            }
-            row(
-                "step",
-                format!("{:.2} ms", fire.last_step.as_secs_f64() * 1e3),
-            );
-            row(
-                "cells advected",
-                format!(
-                    "{} ({:.0} %)",
-                    report.active_cells,
-                    100.0 * report.active_cells as f64 / cells.max(1) as f64
-                ),
-            );
-            row("CG iterations", report.solve.iterations.to_string());
-            row(
-                "divergence left",
-                format!("{:.3} /s", report.max_divergence),
-            );
-            row(
-                "hottest air",
-                format!("{:.0} K above", report.max_temperature),
-            );
-            row("fastest air", format!("{:.2} m/s", report.max_speed));
-        });
+        }
+        row(
+            "step",
+            format!("{:.2} ms", fire.last_step.as_secs_f64() * 1e3),
+        );
+        row(
+            "cells advected",
+            format!(
+                "{} ({:.0} %)",
+                report.active_cells,
+                100.0 * report.active_cells as f64 / cells.max(1) as f64
+            ),
+        );
+        row("CG iterations", report.solve.iterations.to_string());
+        row(
+            "divergence left",
+            format!("{:.3} /s", report.max_divergence),
+        );
+        row(
+            "hottest air",
+            format!("{:.0} K above", report.max_temperature),
+        );
+        row("fastest air", format!("{:.2} m/s", report.max_speed));
     });
 }
 
@@ -428,6 +469,20 @@ fn parameters(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
     }
 }
 
+/// A slider over one field of `value`, labelled with its name and unit.
+fn field_slider<T>(ui: &mut egui::Ui, field: &super::params::FieldRange<T>, value: &mut T) {
+    let text = if field.unit.is_empty() {
+        field.label.to_owned()
+    } else {
+        format!("{} ({})", field.label, field.unit)
+    };
+    ui.add(
+        egui::Slider::new((field.field)(value), field.range.clone())
+            .logarithmic(field.logarithmic)
+            .text(text),
+    );
+}
+
 fn slider(ui: &mut egui::Ui, value: &mut f32, range: std::ops::RangeInclusive<f32>, label: &str) {
     ui.add(egui::Slider::new(value, range).text(label));
 }
@@ -452,17 +507,7 @@ fn material_widgets(
                 }
             });
         for field in &MATERIAL_FIELDS {
-            let value = (field.field)(material);
-            let text = if field.unit.is_empty() {
-                field.label.to_owned()
-            } else {
-                format!("{} ({})", field.label, field.unit)
-            };
-            ui.add(
-                egui::Slider::new(value, field.range.clone())
-                    .logarithmic(field.logarithmic)
-                    .text(text),
-            );
+            field_slider(ui, field, material);
         }
         below(ui);
     });
