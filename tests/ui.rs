@@ -95,6 +95,24 @@ fn extreme_panel_edits_mid_burn_are_clamped_or_refused_and_the_cloth_stays_finit
 }
 
 #[test]
+fn an_edit_elsewhere_keeps_provots_limit() {
+    // Provot's limit is a relative stretch (0.1 = 10 %). The panel's range once read it as a
+    // multiple of the rest length (1.01 to 2), so any edit at all clamped the default 0.1 up
+    // to 1.01: springs were then let stretch to twice their length.
+    let in_use = PanelValues {
+        material: BurnMaterial::COTTON,
+        solver: Default::default(),
+        environment: Default::default(),
+    };
+    let mut edit = in_use;
+    edit.environment.wind = Vec3::new(1.0, 0.0, 0.0);
+    let values = edit.apply(&in_use).unwrap();
+    let limit = |v: &PanelValues| v.solver.provot.map(|p| p.max_stretch);
+    assert_eq!(limit(&values), limit(&in_use));
+    assert_eq!(limit(&values), Some(0.1));
+}
+
+#[test]
 fn a_nan_edit_keeps_the_value_in_use() {
     let in_use = PanelValues {
         material: BurnMaterial::SILK,

@@ -538,7 +538,7 @@ fn solver_widgets(ui: &mut egui::Ui, solver: &mut crate::sim::SolverSettings) {
                 ui,
                 &mut settings.max_stretch,
                 PROVOT_MAX_STRETCH,
-                "max stretch",
+                "max stretch (0.1 = 10 %)",
             );
             ui.add(egui::Slider::new(&mut settings.passes, PROVOT_PASSES).text("passes"));
         }

@@ -2,7 +2,9 @@
 //! takes into a cloth: clamp to the panel's ranges (a NaN keeps the previous value), then the
 //! same validation as the builder. Plain Rust, testable without egui or an `App`.
 
-use crate::sim::{BurnMaterial, Environment, HeatModel, PhysicalHeat, SolverSettings};
+use crate::sim::{
+    BurnMaterial, Environment, HeatModel, PhysicalHeat, ProvotSettings, SolverSettings,
+};
 use std::ops::RangeInclusive;
 
 /// One editable number of a struct: label, unit, allowed range, slider scale, and where it
@@ -143,8 +145,9 @@ pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 15] = [
     },
 ];
 
-/// Range of Provot's stretch limit (rest length multiples).
-pub const PROVOT_MAX_STRETCH: RangeInclusive<f32> = 1.01..=2.0;
+/// Range of Provot's stretch limit: the relative stretch `τ` of
+/// [`ProvotSettings::max_stretch`](crate::sim::ProvotSettings::max_stretch) (0.1 = 10 %).
+pub const PROVOT_MAX_STRETCH: RangeInclusive<f32> = 0.01..=1.0;
 /// Range of Provot's passes.
 pub const PROVOT_PASSES: RangeInclusive<u32> = 1..=16;
 /// Range of fixed substeps.
@@ -202,7 +205,10 @@ impl PanelValues {
         let m = &mut self.material;
         m.burnt_temperature = m.burnt_temperature.max(m.ignition_temperature + 1.0);
         if let Some(provot) = &mut self.solver.provot {
-            let old_stretch = old.solver.provot.map_or(1.1, |p| p.max_stretch);
+            let old_stretch = old
+                .solver
+                .provot
+                .map_or(ProvotSettings::default().max_stretch, |p| p.max_stretch);
             provot.max_stretch = clamp_or(provot.max_stretch, &PROVOT_MAX_STRETCH, old_stretch);
             provot.passes = provot
                 .passes
