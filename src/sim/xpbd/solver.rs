@@ -95,8 +95,8 @@ pub struct StretchLimit<'a> {
     pub springs: &'a [u32],
     /// Largest relative stretch (0.1 is 10 %).
     pub stretch: f32,
-    /// Passes per substep: the first over every spring of the list, each later one over
-    /// the springs the pass before corrected; 0 turns the limit off.
+    /// Passes per substep, each over every spring of the list, stopping once one corrects
+    /// none; 0 turns the limit off.
     pub passes: u32,
 }
 
@@ -710,22 +710,19 @@ impl XpbdSolver {
                     };
                     let band = parity as usize + 2 * item;
                     let reach = lanes.bands[band].reach.clone();
-                    // SAFETY: bands of one parity reach disjoint rows, each has its own bucket,
-                    // and x is not written while springs are limited.
-                    let (mut rows, lists) =
-                        unsafe { (shared.rows(*grid, reach), buckets.bucket(band)) };
-                    limit_bucket(&mut rows, lists, limit_passes);
+                    // SAFETY: bands of one parity reach disjoint rows, and x is not written
+                    // while springs are limited.
+                    let mut rows = unsafe { shared.rows(*grid, reach) };
+                    limit_bucket(&mut rows, buckets.bucket(band), limit_passes);
                 }
                 Pass::Rest { limit, refresh } => {
                     match (limit, layout) {
                         (Leftover::None, _) => {}
                         (Leftover::Rest, Layout::Grid { slots: grid, .. }) => {
                             let rows = 0..grid.quarter_len() / grid.width();
-                            // SAFETY: the only item of its pass, and the only one with this bucket.
-                            let (mut rows, lists) = unsafe {
-                                (shared.rows(*grid, rows), buckets.bucket(buckets.rest()))
-                            };
-                            limit_bucket(&mut rows, lists, limit_passes);
+                            // SAFETY: the only item of its pass.
+                            let mut rows = unsafe { shared.rows(*grid, rows) };
+                            limit_bucket(&mut rows, buckets.bucket(buckets.rest()), limit_passes);
                         }
                         _ => {
                             // SAFETY: the only item of its pass.
