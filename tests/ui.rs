@@ -94,16 +94,21 @@ fn extreme_panel_edits_mid_burn_are_clamped_or_refused_and_the_cloth_stays_finit
     );
 }
 
+/// What the panel shows for `material` with the default solver and environment.
+fn defaults_with(material: BurnMaterial) -> PanelValues {
+    PanelValues {
+        material,
+        solver: Default::default(),
+        environment: Default::default(),
+    }
+}
+
 #[test]
 fn an_edit_elsewhere_keeps_provots_limit() {
     // Provot's limit is a relative stretch (0.1 = 10 %). The panel's range once read it as a
     // multiple of the rest length (1.01 to 2), so any edit at all clamped the default 0.1 up
     // to 1.01: springs were then let stretch to twice their length.
-    let in_use = PanelValues {
-        material: BurnMaterial::COTTON,
-        solver: Default::default(),
-        environment: Default::default(),
-    };
+    let in_use = defaults_with(BurnMaterial::COTTON);
     let mut edit = in_use;
     edit.environment.wind = Vec3::new(1.0, 0.0, 0.0);
     let values = edit.apply(&in_use).unwrap();
@@ -114,11 +119,7 @@ fn an_edit_elsewhere_keeps_provots_limit() {
 
 #[test]
 fn a_nan_edit_keeps_the_value_in_use() {
-    let in_use = PanelValues {
-        material: BurnMaterial::SILK,
-        solver: Default::default(),
-        environment: Default::default(),
-    };
+    let in_use = defaults_with(BurnMaterial::SILK);
     let mut edit = in_use;
     edit.material.structural_stiffness = f32::NAN;
     edit.material.areal_density = 1e9;

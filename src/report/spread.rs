@@ -323,9 +323,10 @@ mod tests {
     fn the_paper_model_spreads_alike_from_50_mm_to_5_mm_spacing() {
         // Issue #16 asks for each direction's speed within 15 % across 5 to 50 mm. Before the
         // push was scaled per metre, cotton's front climbed 171 mm/s at 50 mm and 95 mm/s at
-        // 25 mm: a fixed number of particles per second. A catch is dated within its frame (`HeatWorkspace::apply_dated`); before, a particle started
-        // pushing a frame late, and on the 5 mm grid, whose front crosses a cell in two or
-        // three frames, cotton climbed at 89 mm/s against 99 at 50 mm (silk 137 against 176).
+        // 25 mm: a fixed number of particles per second. A catch is dated within its frame
+        // (`HeatWorkspace::apply`); before, a particle started pushing a frame late, and on
+        // the 5 mm grid, whose front crosses a cell in two or three frames, cotton climbed at
+        // 89 mm/s against 99 at 50 mm (silk 137 against 176).
         // Measured: up 100 / 101 / 96, sideways 34 / 32 / 31, down 23 / 20 / 18 mm/s at
         // 50 / 12.5 / 5 mm.
         let at = |spacing| {

@@ -151,30 +151,6 @@ impl HeatWorkspace {
         }
     }
 
-    /// [`Self::apply`], dating each catch: a particle that crosses `ignition` (°C) in this step
-    /// of `h` seconds is owed the part of the step after the crossing (the increment taken as
-    /// even over the step), which its first push makes up for. Without it a catch would start
-    /// pushing only at the next step, and on a fine grid, whose front crosses a cell in a few
-    /// steps, that lag slowed the front: silk's climb on a 5 mm grid went from 137 to 149 mm/s
-    /// with the catch dated (178 at 50 mm).
-    fn apply_dated(&mut self, temperature: &mut [f32], state: &[BurnState], ignition: f32, h: f32) {
-        for &j in &self.caught {
-            self.owed[j as usize] = 0.0;
-        }
-        self.caught.clear();
-        for &j in &self.touched {
-            let j = j as usize;
-            let (before, d) = (temperature[j], self.delta[j]);
-            let after = before + d;
-            if !state[j].is_burnt() && d > 0.0 && before <= ignition && after > ignition {
-                let after_crossing = (after - ignition) / d;
-                self.owed[j] = h * after_crossing.clamp(0.0, 1.0);
-                self.caught.push(j as u32);
-            }
-        }
-        self.apply(temperature, state);
-    }
-
     /// Adds `amount` (°C) to particle `j`'s increment.
     #[inline]
     fn add(&mut self, j: usize, amount: f32) {
@@ -187,12 +163,32 @@ impl HeatWorkspace {
 
     /// Adds the increments to the temperatures of unburnt particles, keeping each within the
     /// accepted range (non-finite increments are dropped), and clears them.
-    fn apply(&mut self, temperature: &mut [f32], state: &[BurnState]) {
+    ///
+    /// With `dating` = (ignition temperature °C, step s), also dates each catch: a particle
+    /// that crosses the ignition temperature in this step is owed the part of the step after
+    /// the crossing (the increment taken as even over the step), which its first push makes up
+    /// for. Without it a catch would start pushing only at the next step, and on a fine grid,
+    /// whose front crosses a cell in a few steps, that lag slowed the front: silk's climb on a
+    /// 5 mm grid went from 137 to 149 mm/s with the catch dated (178 at 50 mm).
+    fn apply(&mut self, temperature: &mut [f32], state: &[BurnState], dating: Option<(f32, f32)>) {
+        for &j in &self.caught {
+            self.owed[j as usize] = 0.0;
+        }
+        self.caught.clear();
         for &j in &self.touched {
             let j = j as usize;
-            let d = self.delta[j];
+            let (before, d) = (temperature[j], self.delta[j]);
             if !state[j].is_burnt() && d.is_finite() {
-                temperature[j] = (temperature[j] + d).min(MAX_TEMPERATURE);
+                let after = before + d;
+                if let Some((ignition, h)) = dating
+                    && d > 0.0
+                    && before <= ignition
+                    && after > ignition
+                {
+                    self.owed[j] = h * ((after - ignition) / d).clamp(0.0, 1.0);
+                    self.caught.push(j as u32);
+                }
+                temperature[j] = after.min(MAX_TEMPERATURE);
             }
             self.delta[j] = 0.0;
             self.marked[j] = false;
@@ -354,8 +350,8 @@ pub fn paper_heat_step(
     workspace.prepare(particles.len());
     paper_heat_push(front, springs, particles, params, h, workspace);
     proximity_heat_push(front, particles, params, h, workspace);
-    let ignition = params.ignition_temperature;
-    workspace.apply_dated(&mut particles.temperature, &particles.state, ignition, h);
+    let dating = Some((params.ignition_temperature, h));
+    workspace.apply(&mut particles.temperature, &particles.state, dating);
 }
 
 /// Proximity heating alone, applied at once, as an exchange that conserves heat
@@ -370,7 +366,7 @@ pub fn proximity_heat_step(
 ) {
     workspace.prepare(particles.len());
     proximity_heat_exchange(front, particles, params, h, workspace);
-    workspace.apply(&mut particles.temperature, &particles.state);
+    workspace.apply(&mut particles.temperature, &particles.state, None);
 }
 
 #[cfg(test)]
@@ -478,7 +474,7 @@ mod tests {
         particles.temperature[1] = 95.0;
         workspace.add(1, 15.0);
         let state = particles.state.clone();
-        workspace.apply_dated(&mut particles.temperature, &state, 100.0, h);
+        workspace.apply(&mut particles.temperature, &state, Some((100.0, h)));
         assert!((workspace.owed[1] - 2.0 / 3.0 * h).abs() < 1e-6);
         assert_eq!(workspace.owed[2], 0.0, "no catch, nothing owed");
         // The hub's push is unchanged (it caught long ago) and the owed time is spent once.
@@ -555,7 +551,7 @@ mod tests {
         for (j, amount) in [1.0e9, 5.0, f32::NAN].into_iter().enumerate() {
             workspace.add(j, amount);
         }
-        workspace.apply(&mut temperature, &state);
+        workspace.apply(&mut temperature, &state, None);
         assert_eq!(temperature, [MAX_TEMPERATURE, 10.0, 10.0]);
         assert!(workspace.delta.iter().all(|&d| d == 0.0));
         assert!(workspace.touched.is_empty());

@@ -600,13 +600,13 @@ impl XpbdSolver {
             ),
         };
         let slot_parts = if shared { slot_parts } else { 1 };
+        let banded = shared && matches!(self.layout, Layout::Grid { .. });
         self.passes.clear();
         self.passes.push((Pass::Predict, slot_parts));
         for substep in 0..substeps {
             let refresh = refresh[usize::from(substep > 0)];
             self.passes.push((Pass::Springs(0), bands[0]));
             self.passes.push((Pass::Springs(1), bands[1]));
-            let banded = shared && matches!(self.layout, Layout::Grid { .. });
             if limiting && banded {
                 self.passes.push((Pass::Limit(0), bands[0]));
                 self.passes.push((Pass::Limit(1), bands[1]));

@@ -371,15 +371,20 @@ mod tests {
     use crate::sim::material::BurnMaterial;
     use glam::Affine3A;
 
+    /// A grid cloth's particles and springs, `columns × rows` particles 2 cm apart.
+    fn grid(columns: u32, rows: u32) -> (crate::sim::Particles, crate::sim::Springs) {
+        let parts = ClothBuilder::grid(columns, rows, 0.02)
+            .build(&BurnMaterial::COTTON, Affine3A::IDENTITY)
+            .unwrap();
+        (parts.particles, parts.springs)
+    }
+
     /// Every eligible spring lands in exactly one bucket: a band whose reach holds both its
     /// ends (the packed ends name its slots), or, if it reaches further, the last bucket.
     #[test]
     fn springs_go_to_the_band_that_holds_both_ends_or_to_the_rest() {
         let (columns, rows) = (21u32, 40u32);
-        let parts = ClothBuilder::grid(columns, rows, 0.02)
-            .build(&BurnMaterial::COTTON, Affine3A::IDENTITY)
-            .unwrap();
-        let (particles, mut springs) = (parts.particles, parts.springs);
+        let (particles, mut springs) = grid(columns, rows);
         let grid = crate::sim::topology::GridShape { columns, rows };
         let slots = GridSlots::new(grid);
         let lanes = GridLanes::new(slots, 8);
@@ -425,25 +430,13 @@ mod tests {
             }
         }
     }
-}
-
-#[cfg(test)]
-mod convergence_tests {
-    use super::*;
-    use crate::sim::grid::ClothBuilder;
-    use crate::sim::material::BurnMaterial;
-    use glam::Affine3A;
 
     /// Enough passes over a patch of shrunk springs, stretched at random, leave none longer
     /// than its limit. (Passes that revisited only what the pass before corrected left it at
     /// 2.2 times its limit after 500.)
     #[test]
     fn passes_bring_every_spring_within_its_limit() {
-        let (columns, rows) = (12u32, 12u32);
-        let parts = ClothBuilder::grid(columns, rows, 0.02)
-            .build(&BurnMaterial::COTTON, Affine3A::IDENTITY)
-            .unwrap();
-        let (particles, mut springs) = (parts.particles, parts.springs);
+        let (particles, mut springs) = grid(12, 12);
         for rest in &mut springs.rest_length {
             *rest *= 0.7;
         }
