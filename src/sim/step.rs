@@ -41,11 +41,11 @@ use bevy::platform::time::Instant;
 use core::time::Duration;
 use glam::{Affine3A, Vec3};
 
-/// Most Provot passes per substep XPBD runs over the heated springs (it takes six or more
-/// substeps a frame): the first checks them all, the second only those the first corrected.
-/// Four full passes made a burning 64 x 64 cloth's dynamics half as dear again (0.72 against
-/// 0.50 ms, `examples/stress.rs`) and held a shrunk block to a mean stretch of 1.16 where two
-/// hold it to 1.21 (`tests/burning.rs`).
+/// Most rounds of Provot's limit per substep XPBD runs over the heated springs (it takes six
+/// or more substeps a frame), each over every heated spring, stopping after one that
+/// corrects nothing. Four made a burning 64 x 64 cloth's dynamics half as dear again (0.72
+/// against 0.50 ms, `examples/stress.rs`) and held a shrunk block to a mean stretch of 1.16
+/// where two hold it to 1.21 (`tests/burning.rs`).
 const XPBD_STRETCH_LIMIT_PASSES: u32 = 2;
 
 /// The world as one cloth's step sees it.

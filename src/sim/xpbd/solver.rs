@@ -1,8 +1,8 @@
 //! [`XpbdSolver`]: one cloth's XPBD state and the substep loop.
 //!
 //! A substep is four passes: the grid's even bands of springs, its odd bands, the stretch
-//! limit on the heated springs (even bands, odd bands, then any left over), then one pass over
-//! the particles (tethers, colliders, the velocity update and the next substep's prediction).
+//! limit on the heated springs (in rounds, each over the even bands, the odd bands, then any
+//! left over), then one pass over the particles (tethers, colliders, the velocity update and the next substep's prediction).
 //! The frame's passes are listed once (`XpbdSolver::plan_passes`) and run under one scope of
 //! the task pool when the cloth is big enough ([`run_phases`]). Bands solved together share
 //! no particle and particles are independent in the last pass, so the result is the same on
@@ -11,7 +11,7 @@
 use super::adjacency::Adjacency;
 use super::kernel::{Arrays, RunData, project_indexed, project_shared, project_split};
 use super::lanes::{Band, GridLanes, GridSlots, Lane};
-use super::stretch_limit::{Flat, LimitedSprings, Rows, limit_all, limit_bucket};
+use super::stretch_limit::{Flat, LimitedSprings, RoundTallies, Rows, limit_all, limit_pass};
 use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
 use crate::sim::forces::ForceParams;
@@ -145,6 +145,8 @@ pub struct XpbdSolver {
     passes: Vec<(Pass, usize)>,
     pass_sizes: Vec<usize>,
     claims: Claims,
+    /// Springs corrected by each of the frame's rounds of the stretch limit.
+    tallies: RoundTallies,
 }
 
 /// What reading the particles found out about the pins.
@@ -392,9 +394,9 @@ impl XpbdSolver {
             refresh_targets: false,
         };
         let shared = pool.is_some_and(|pool| pool.thread_num() > 0);
-        self.plan_passes(substeps, shared, [refresh, tethered && pins.moving]);
-        let passes = around.stretch_limit.map_or(0, |limit| limit.passes);
-        self.run_passes(springs, &step, passes, pool);
+        let rounds = around.stretch_limit.map_or(0, |limit| limit.passes);
+        self.plan_passes(substeps, rounds, shared, [refresh, tethered && pins.moving]);
+        self.run_passes(springs, &step, rounds, pool);
         self.targets_valid = tethered && !pins.moving;
         (self.write(particles, &around.guard, pool), pins.changed)
     }
@@ -583,7 +585,7 @@ impl XpbdSolver {
     /// (one item), and the per-slot pass (one item on one thread; shared between threads, a
     /// grid's band's rows or runs of slots). `refresh`: whether the tether targets must be
     /// looked up again in the first substep, and in the later ones.
-    fn plan_passes(&mut self, substeps: u32, shared: bool, refresh: [bool; 2]) {
+    fn plan_passes(&mut self, substeps: u32, rounds: u32, shared: bool, refresh: [bool; 2]) {
         let limiting = !self.limited.is_empty();
         let rest = self.limited.has_rest();
         let (slot_parts, bands) = match &self.layout {
@@ -603,22 +605,31 @@ impl XpbdSolver {
         let banded = shared && matches!(self.layout, Layout::Grid { .. });
         self.passes.clear();
         self.passes.push((Pass::Predict, slot_parts));
+        let mut round = 0;
         for substep in 0..substeps {
             let refresh = refresh[usize::from(substep > 0)];
             self.passes.push((Pass::Springs(0), bands[0]));
             self.passes.push((Pass::Springs(1), bands[1]));
             if limiting && banded {
-                self.passes.push((Pass::Limit(0), bands[0]));
-                self.passes.push((Pass::Limit(1), bands[1]));
+                for r in 0..rounds {
+                    let first = r == 0;
+                    let parities = [(0, bands[0]), (1, bands[1]), (2, usize::from(rest))];
+                    for (parity, items) in parities.into_iter().filter(|&(_, n)| n > 0) {
+                        self.passes.push((
+                            Pass::Limit {
+                                parity,
+                                round,
+                                first,
+                            },
+                            items,
+                        ));
+                    }
+                    round += 1;
+                }
             }
-            let limit = match (limiting, banded) {
-                (false, _) => Leftover::None,
-                (true, true) if rest => Leftover::Rest,
-                (true, true) => Leftover::None,
-                (true, false) => Leftover::All,
-            };
-            if limit != Leftover::None || refresh {
-                self.passes.push((Pass::Rest { limit, refresh }, 1));
+            let limit = limiting && !banded;
+            if limit || refresh {
+                self.passes.push((Pass::Serial { limit, refresh }, 1));
             }
             let last = substep + 1 == substeps;
             self.passes
@@ -627,6 +638,7 @@ impl XpbdSolver {
         self.pass_sizes.clear();
         self.pass_sizes
             .extend(self.passes.iter().map(|&(_, items)| items));
+        self.tallies.reset(round as usize);
     }
 
     /// Runs the planned passes, on `pool`'s threads when one is given (see [`run_phases`]):
@@ -637,7 +649,7 @@ impl XpbdSolver {
         &mut self,
         springs: &Springs,
         step: &Substep,
-        limit_passes: u32,
+        rounds: u32,
         pool: Option<&TaskPool>,
     ) {
         let shared = SharedSlots::new(&mut self.slots);
@@ -674,7 +686,7 @@ impl XpbdSolver {
                 }
             }
         };
-        let claims = &mut self.claims;
+        let (claims, tallies) = (&mut self.claims, &self.tallies);
         run_phases(pool, &self.pass_sizes, claims, |phase, item| {
             match passes[phase].0 {
                 Pass::Predict => {
@@ -701,34 +713,39 @@ impl XpbdSolver {
                     }
                     Layout::Unset => {}
                 },
-                Pass::Limit(parity) => {
+                Pass::Limit {
+                    parity,
+                    round,
+                    first,
+                } => {
                     let Layout::Grid {
                         slots: grid, lanes, ..
                     } = layout
                     else {
                         return;
                     };
-                    let band = parity as usize + 2 * item;
-                    let reach = lanes.bands[band].reach.clone();
-                    // SAFETY: bands of one parity reach disjoint rows, and x is not written
-                    // while springs are limited.
+                    let round = round as usize;
+                    if !first && tallies.corrected_nothing(round - 1) {
+                        // The round before changed nothing, so this one would not either.
+                        return;
+                    }
+                    let (bucket, reach) = if parity < 2 {
+                        let band = parity as usize + 2 * item;
+                        (band, lanes.bands[band].reach.clone())
+                    } else {
+                        (buckets.rest(), 0..grid.quarter_len() / grid.width())
+                    };
+                    // SAFETY: bands of one parity reach disjoint rows (the springs outside
+                    // the bands are their pass's only item), and x is not written while
+                    // springs are limited.
                     let mut rows = unsafe { shared.rows(*grid, reach) };
-                    limit_bucket(&mut rows, buckets.bucket(band), limit_passes);
+                    tallies.add(round, limit_pass(&mut rows, buckets.bucket(bucket)));
                 }
-                Pass::Rest { limit, refresh } => {
-                    match (limit, layout) {
-                        (Leftover::None, _) => {}
-                        (Leftover::Rest, Layout::Grid { slots: grid, .. }) => {
-                            let rows = 0..grid.quarter_len() / grid.width();
-                            // SAFETY: the only item of its pass.
-                            let mut rows = unsafe { shared.rows(*grid, rows) };
-                            limit_bucket(&mut rows, buckets.bucket(buckets.rest()), limit_passes);
-                        }
-                        _ => {
-                            // SAFETY: the only item of its pass.
-                            let (x, u) = unsafe { shared.positions() };
-                            limit_all(&mut Flat { x, u }, &buckets, limit_passes);
-                        }
+                Pass::Serial { limit, refresh } => {
+                    if limit {
+                        // SAFETY: the only item of its pass.
+                        let (x, u) = unsafe { shared.positions() };
+                        limit_all(&mut Flat { x, u }, &buckets, rounds);
                     }
                     if refresh {
                         // SAFETY: the only item of its pass; only this pass writes the pins'
@@ -940,25 +957,17 @@ enum Pass {
     /// The springs of a grid's bands of one parity (0: even, 1: odd), an item per band; a
     /// mesh's springs (parity 0) as one item.
     Springs(u8),
-    /// The stretch limit on the springs in a grid's bands of one parity, an item per band.
-    Limit(u8),
-    /// The stretch limit on the springs `limit` names and the pins' positions (when
-    /// `refresh`), as one item.
-    Rest { limit: Leftover, refresh: bool },
+    /// One round of the stretch limit: one pass over the springs in a grid's bands of one
+    /// parity (0: even, 1: odd), an item per band, or (parity 2) over those outside the bands,
+    /// as one item. `round` numbers the frame's rounds ([`RoundTallies`]); a round that is
+    /// not the `first` of its substep is skipped when the one before corrected nothing.
+    Limit { parity: u8, round: u32, first: bool },
+    /// On one thread, as one item: every limited spring, round after round (when `limit`:
+    /// the cloth is not split between threads), and the pins' positions (when `refresh`).
+    Serial { limit: bool, refresh: bool },
     /// Tethers (their targets looked up again when `refresh`), colliders, the velocity
     /// update and, unless `last`, the next substep's prediction, over runs of slots.
     Finish { last: bool, refresh: bool },
-}
-
-/// Which limited springs a [`Pass::Rest`] corrects.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Leftover {
-    /// None (there are none, or the bands took them all).
-    None,
-    /// Those outside the grid's bands, after the bands' passes.
-    Rest,
-    /// All of them, band by band and then the rest, on one thread.
-    All,
 }
 
 /// The per-slot arrays handed to the threads of a frame's passes, each item taking the part
