@@ -91,14 +91,50 @@ pub struct Advection<'a> {
     pub active: &'a ActiveSpans,
     /// Step, s.
     pub dt: f32,
+    /// What the air loses over the step, applied to each advected value as it is written.
+    pub decay: Decay,
+}
+
+/// What the air loses over one step, as factors on the advected values (1 keeps everything):
+/// applying them as advection writes each value saves a pass over the box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Decay {
+    /// Velocity kept (damping).
+    pub velocity: f32,
+    /// Excess temperature kept (cooling); the result is clamped to `±hottest`.
+    pub temperature: f32,
+    /// Smoke kept; the result is never negative.
+    pub smoke: f32,
+    /// Largest excess temperature, K.
+    pub hottest: f32,
+}
+
+impl Decay {
+    /// Nothing lost.
+    pub const NONE: Self = Self {
+        velocity: 1.0,
+        temperature: 1.0,
+        smoke: 1.0,
+        hottest: f32::INFINITY,
+    };
+
+    #[inline(always)]
+    fn temperature(&self, t: f32) -> f32 {
+        (t * self.temperature).clamp(-self.hottest, self.hottest)
+    }
+
+    #[inline(always)]
+    fn smoke(&self, s: f32) -> f32 {
+        (s * self.smoke).max(0.0)
+    }
 }
 
 /// Layers of cells (or faces) per parallel part.
 const LAYERS_PER_PART: usize = 2;
 
 impl Advection<'_> {
-    /// Advects the cell-centred temperature and smoke `from` into `to` (solid cells hold
-    /// zero, and so do cells outside the active spans), tracing back along a midpoint (RK2)
+    /// Advects the cell-centred temperature and smoke `from` into `to`, less their
+    /// [`Decay`] (solid cells hold zero, and so do cells outside the active spans), tracing back along a midpoint (RK2)
     /// path. Layers of cells run in parallel on
     /// `pool`; each value depends only on `from`, so the result is the same on any number
     /// of threads.
@@ -137,14 +173,15 @@ impl Advection<'_> {
                         continue;
                     }
                     let stencil = shape.stencil(departure, shape.dims, Stagger::CENTRE);
-                    t_row[i] = stencil.apply(from[0]);
-                    s_row[i] = stencil.apply(from[1]);
+                    t_row[i] = self.decay.temperature(stencil.apply(from[0]));
+                    s_row[i] = self.decay.smoke(stencil.apply(from[1]));
                 }
             }
         });
     }
 
-    /// Advects the staggered velocity `from` into `to` (the air carries its own momentum).
+    /// Advects the staggered velocity `from` into `to` (the air carries its own momentum),
+    /// less its [`Decay`].
     /// The trace is a single Euler step back from the face, whose velocity is the mean of its
     /// two cells. Faces that touch no active cell keep their velocity. Layers of faces run in
     /// parallel on `pool`.
@@ -163,13 +200,17 @@ impl Advection<'_> {
                 for (row, out_row) in out.chunks_mut(dims[0]).enumerate() {
                     let (j, k) = (row % dims[1], k0 + row / dims[1]);
                     let first = dims[0] * (j + dims[1] * k);
-                    out_row.copy_from_slice(&source[first..first + dims[0]]);
+                    let kept = self.decay.velocity;
+                    let source_row = &source[first..first + dims[0]];
+                    for (out, u) in out_row.iter_mut().zip(source_row) {
+                        *out = u * kept;
+                    }
                     for i in self.active.face_row(shape, axis, j, k) {
                         let u = face_mean(shape.face_cells(axis, [i, j, k]), cell_velocity);
                         let here = shape.position(i, j, k, stagger);
                         let departure = here - self.dt * (u + self.wind);
                         out_row[i] = if arrives_from_inside(shape, self.walls, departure) {
-                            shape.sample(source, dims, stagger, departure)
+                            shape.sample(source, dims, stagger, departure) * kept
                         } else {
                             0.0
                         };

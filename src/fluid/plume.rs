@@ -2,7 +2,7 @@
 //! advect, add forces, project.
 
 use super::active::{ActiveSpans, BUSY_SMOKE, BUSY_SPEED, BUSY_TEMPERATURE};
-use super::advect::{Advection, centre_velocity};
+use super::advect::{Advection, Decay, centre_velocity};
 use super::forces::{VorticityScratch, add_buoyancy, add_vorticity_confinement, for_each_face};
 use super::grid::{GridShape, Stagger};
 use super::pressure::{PressureSolver, SolveReport, Wall};
@@ -367,6 +367,12 @@ impl Plume {
             walls: &self.settings.walls,
             active: &self.active,
             dt,
+            decay: Decay {
+                velocity: (-self.settings.damping * dt).exp(),
+                temperature: (-self.settings.cooling * dt).exp(),
+                smoke: (-self.settings.smoke_decay * dt).exp(),
+                hottest: self.settings.max_temperature,
+            },
         };
         advection.scalars(
             &self.solid,
@@ -379,19 +385,6 @@ impl Plume {
         advection.velocity(&self.velocity, &mut self.next_velocity, pool);
         core::mem::swap(&mut self.velocity, &mut self.next_velocity);
 
-        let damped = (-self.settings.damping * dt).exp();
-        for u in self.velocity.iter_mut().flatten() {
-            *u *= damped;
-        }
-        let cooled = (-self.settings.cooling * dt).exp();
-        let cleared = (-self.settings.smoke_decay * dt).exp();
-        let hottest = self.settings.max_temperature;
-        for t in &mut self.temperature {
-            *t = (*t * cooled).clamp(-hottest, hottest);
-        }
-        for s in &mut self.smoke {
-            *s = (*s * cleared).max(0.0);
-        }
         add_buoyancy(
             &shape,
             &self.active,
@@ -490,14 +483,7 @@ impl Plume {
         );
         // φ is zero beyond open walls and in solid cells; the faces into solids and closed
         // walls, which this also changes, are zeroed again after.
-        let phi = &self.solver.solution;
-        for (axis, faces) in self.velocity.iter_mut().enumerate() {
-            for_each_face(&shape, axis, |face, (below, above)| {
-                let below = below.map_or(0.0, |c| phi[c]);
-                let above = above.map_or(0.0, |c| phi[c]);
-                faces[face] -= (above - below) / h;
-            });
-        }
+        subtract_gradient(&shape, &self.solver.solution, &mut self.velocity);
         self.zero_blocked_faces();
         SolveReport {
             iterations: report.iterations,
@@ -526,6 +512,65 @@ impl Plume {
         let mut div = vec![0.0; self.shape.cells()];
         divergence(&self.shape, &self.velocity, &mut div);
         largest_over_air(&div, &self.solid)
+    }
+}
+
+/// `u −= ∇φ` on every face, `(φ_above − φ_below) / h`, with `φ = 0` beyond the box: row by
+/// row, each row's faces from the one or two rows of cells beside them, in loops the compiler
+/// turns into SIMD.
+fn subtract_gradient(shape: &GridShape, phi: &[f32], velocity: &mut [Vec<f32>; 3]) {
+    let [nx, ny, nz] = shape.dims;
+    let h = shape.cell;
+    let cells = |j: usize, k: usize| &phi[nx * (j + ny * k)..nx * (j + ny * k) + nx];
+    // Along x: a row of nx + 1 faces over one row of cells.
+    for k in 0..nz {
+        for j in 0..ny {
+            let first = (nx + 1) * (j + ny * k);
+            let faces = &mut velocity[0][first..first + nx + 1];
+            let row = cells(j, k);
+            faces[0] -= row[0] / h;
+            for i in 1..nx {
+                faces[i] -= (row[i] - row[i - 1]) / h;
+            }
+            faces[nx] -= (0.0 - row[nx - 1]) / h;
+        }
+    }
+    // Along y and z: a row of nx faces between the rows of cells below and above (none
+    // beyond the box).
+    let between =
+        |faces: &mut [f32], below: Option<&[f32]>, above: Option<&[f32]>| match (below, above) {
+            (Some(below), Some(above)) => {
+                for ((u, b), a) in faces.iter_mut().zip(below).zip(above) {
+                    *u -= (a - b) / h;
+                }
+            }
+            (None, Some(above)) => {
+                for (u, a) in faces.iter_mut().zip(above) {
+                    *u -= (a - 0.0) / h;
+                }
+            }
+            (Some(below), None) => {
+                for (u, b) in faces.iter_mut().zip(below) {
+                    *u -= (0.0 - b) / h;
+                }
+            }
+            (None, None) => {}
+        };
+    for k in 0..nz {
+        for j in 0..=ny {
+            let first = nx * (j + (ny + 1) * k);
+            let below = (j > 0).then(|| cells(j - 1, k));
+            let above = (j < ny).then(|| cells(j, k));
+            between(&mut velocity[1][first..first + nx], below, above);
+        }
+    }
+    for k in 0..=nz {
+        for j in 0..ny {
+            let first = nx * (j + ny * k);
+            let below = (k > 0).then(|| cells(j, k - 1));
+            let above = (k < nz).then(|| cells(j, k));
+            between(&mut velocity[2][first..first + nx], below, above);
+        }
     }
 }
 
