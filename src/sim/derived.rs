@@ -60,6 +60,12 @@ pub fn heat_params(settings: &ClothSettings, topology: &Topology) -> HeatParams 
     };
     params.spread_rate *= per_neighbour;
     params.proximity_rate *= per_neighbour;
+    // The paper model's self-heating too: a burning particle's temperature is what it pushes
+    // with, so it must rise by the same amount while the front crosses one neighbour, whose
+    // time is proportional to the spacing. Unscaled, a coarse grid's pushers grew hotter per
+    // crossing and its fronts ran faster (silk's downward front 45 mm/s at 50 mm against 33
+    // at 5 mm). The physical model has its own burn rates and does not read this.
+    params.self_heating_rate *= per_neighbour;
     params.up = settings.environment.unit_up();
     if let HeatModel::Physical(physical) = settings.solver.heat_model {
         params.physical = Some(physical);

@@ -18,8 +18,10 @@
 //!
 //! As in the paper the pushing particle loses no heat: heat only grows. Two additions keep
 //! the model from stalling: an ignited particle heats itself at the material's
-//! `self_heating_rate` (a lone burning particle would otherwise never reach the burnt
-//! temperature), and particles that come within `proximity_radius` of a burning one (a fold,
+//! `self_heating_rate`, scaled by `L_ref / l` like the push (a lone burning particle would
+//! otherwise never reach the burnt temperature; scaled, a pusher is as hot when the front
+//! reaches its neighbour at any spacing, and the front's speed does not change with it),
+//! and particles that come within `proximity_radius` of a burning one (a fold,
 //! another layer) are heated through a [`SpatialHash`], not only grid neighbours.
 //!
 //! Increments are gathered in a buffer and applied together, so the result does not depend
@@ -68,7 +70,8 @@ pub struct HeatParams {
     /// Push rate for this cloth's spacing, 1/s (the material's `heat_spread_rate` times
     /// `REFERENCE_SPACING / spacing`).
     pub spread_rate: f32,
-    /// Self-heating of an ignited particle, °C/s.
+    /// Self-heating of an ignited particle, °C/s (the material's `self_heating_rate` times
+    /// `REFERENCE_SPACING / spacing`).
     pub self_heating_rate: f32,
     /// Temperature the push is measured from, °C.
     pub initial_temperature: f32,

@@ -75,7 +75,11 @@ pub struct BurnMaterial {
     /// front then crosses a neighbour in a time proportional to the spacing, so it moves
     /// the same metres per second on a fine cloth as on a coarse one.
     pub heat_spread_rate: f32,
-    /// How fast an ignited particle heats itself while it burns, °C/s.
+    /// How fast an ignited particle heats itself while it burns under the paper's model, °C/s,
+    /// for particles [`REFERENCE_SPACING`] apart; a cloth with particles `spacing` apart heats
+    /// at `rate × REFERENCE_SPACING / spacing`, like the push, so a burning particle is as hot
+    /// when the front has crossed to its neighbour at any resolution. (The plume reads the
+    /// unscaled rate for how long the material burns.)
     pub self_heating_rate: f32,
     /// Rest-length shrink factor, N/(m·s·°C): a spring shrinks by
     /// `factor × dt × l_init × (ΔT_a + ΔT_b) / k` per step (Larboulette's rule).
