@@ -15,7 +15,10 @@
 //! A case stops when every mark is reached, when nothing is burning any more, or at the time
 //! limit; a mark never reached is reported as `None`.
 
-use crate::sim::{BurnMaterial, BurnState, ClothBuilder, ClothError, ClothSim, HeatModel};
+use crate::sim::{
+    BurnMaterial, BurnState, ClothBuilder, ClothError, ClothSim, HeatModel, MeshClothBuilder,
+    MeshPins,
+};
 use glam::{Affine3A, Quat, Vec3};
 
 /// One frame, s.
@@ -121,6 +124,98 @@ pub fn vertical_panel(case: &SpreadCase, limit: f32) -> Result<PanelSpread, Clot
     let speed = |d: usize| match (times.at[2 * d], times.at[2 * d + 1]) {
         (Some(start), Some(end)) if end > start => Some(distance / (end - start)),
         _ => None,
+    };
+    Ok(PanelSpread {
+        up: speed(0),
+        sideways: speed(1),
+        down: speed(2),
+        simulated: times.simulated,
+    })
+}
+
+/// Runs the vertical panel for `case` on a [`MeshClothBuilder`] mesh instead of a grid: a
+/// 1 m × 1 m square of vertices `case.spacing` apart whose inner vertices are moved by up to
+/// `jitter` times the spacing in each direction (a fixed pseudo-random pattern; 0 leaves the
+/// mesh regular), each cell split along alternating diagonals, every vertex pinned, as a
+/// game's imported mesh would be made flammable. A
+/// direction's speed is the distance between the particles nearest the two marks over the
+/// time between their catches.
+pub fn mesh_panel(case: &SpreadCase, jitter: f32, limit: f32) -> Result<PanelSpread, ClothError> {
+    let n = (1.0 / case.spacing).round() as u32 + 1;
+    let step = 1.0 / (n - 1) as f32;
+    // A hash of the vertex's place, in [-1, 1): the same mesh on every run.
+    let offset = |column: u32, row: u32, salt: u32| {
+        let mut h = column.wrapping_mul(0x9E37_79B1) ^ row.wrapping_mul(0x85EB_CA77) ^ salt;
+        h ^= h >> 15;
+        h = h.wrapping_mul(0x2C1B_3C6D);
+        h ^= h >> 12;
+        (h & 0xFFFF) as f32 / 32768.0 - 1.0
+    };
+    let mut positions = Vec::with_capacity((n * n) as usize);
+    for row in 0..n {
+        for column in 0..n {
+            let edge = row == 0 || column == 0 || row + 1 == n || column + 1 == n;
+            let (dx, dy) = if edge {
+                (0.0, 0.0)
+            } else {
+                (offset(column, row, 1), offset(column, row, 2))
+            };
+            positions.push(Vec3::new(
+                (column as f32 + jitter * dx) * step - 0.5,
+                0.5 - (row as f32 + jitter * dy) * step,
+                0.0,
+            ));
+        }
+    }
+    let mut triangles = Vec::with_capacity((2 * (n - 1) * (n - 1)) as usize);
+    for row in 0..n - 1 {
+        for column in 0..n - 1 {
+            let [a, b, c, d] = [
+                index(n, column, row),
+                index(n, column + 1, row),
+                index(n, column, row + 1),
+                index(n, column + 1, row + 1),
+            ]
+            .map(|i| i as u32);
+            if (row + column) % 2 == 0 {
+                triangles.extend([[a, c, d], [a, d, b]]);
+            } else {
+                triangles.extend([[a, c, b], [b, c, d]]);
+            }
+        }
+    }
+    let parts = MeshClothBuilder::new(positions, triangles)
+        .with_pins(MeshPins::custom(|_, _| true))
+        .build(
+            &case.material,
+            Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
+        )?;
+    let mut sim = ClothSim::from_parts(parts, case.material, Affine3A::IDENTITY);
+    sim.update_settings(|s| s.solver.heat_model = case.heat_model)?;
+    let centre = Vec3::new(0.0, 2.0, 0.0);
+    let lit = sim.ignite_nearest(centre)?;
+    let nearest = |point: Vec3| {
+        let position = &sim.particles.position;
+        (0..position.len())
+            .min_by(|&i, &j| {
+                position[i]
+                    .distance_squared(point)
+                    .total_cmp(&position[j].distance_squared(point))
+            })
+            .unwrap_or(lit)
+    };
+    let directions = [Vec3::Y, Vec3::X, -Vec3::Y];
+    let marks = directions.map(|d| [nearest(centre + MARKS.0 * d), nearest(centre + MARKS.1 * d)]);
+    let times = run_until(&mut sim, &marks.concat(), limit);
+    let position = &sim.particles.position;
+    let speed = |d: usize| {
+        let [near, far] = marks[d];
+        match (times.at[2 * d], times.at[2 * d + 1]) {
+            (Some(start), Some(end)) if end > start => {
+                Some(position[near].distance(position[far]) / (end - start))
+            }
+            _ => None,
+        }
     };
     Ok(PanelSpread {
         up: speed(0),
@@ -356,6 +451,40 @@ mod tests {
                         (v / mean - 1.0).abs() <= 0.15,
                         "{}: {direction}: {speeds:?} m/s at 50, 12.5 and 5 mm",
                         material.name
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_mesh_burns_as_fast_as_a_grid_at_any_triangle_size() {
+        // Issue #16: a `Flammable` mesh's fire must not depend on its triangles' size. Each
+        // direction within 15 % of the 25 mm grid's speed, on meshes of 25 and 12.5 mm. The
+        // paper model on irregular triangles (vertices moved by up to a quarter of the
+        // spacing): before the push was scaled by the mesh's row spacing and neighbour count
+        // (`sim::lattice`), it climbed at 75 mm/s against the grid's 104. The physical model
+        // on regular triangles: on irregular ones its front follows the edges, whose speed
+        // drops fast off the vertical (cotton's ellipse is 8 times taller than wide), and it
+        // climbs at half the grid's speed (not yet solved).
+        for (heat_model, jitter) in [(HeatModel::Paper, 0.25), (HeatModel::PHYSICAL, 0.0)] {
+            let at = |spacing| SpreadCase {
+                material: BurnMaterial::COTTON,
+                heat_model,
+                spacing,
+            };
+            let grid = vertical_panel(&at(0.025), 240.0).unwrap();
+            for spacing in [0.025, 0.0125] {
+                let mesh = mesh_panel(&at(spacing), jitter, 240.0).unwrap();
+                for (direction, g, m) in [
+                    ("up", grid.up, mesh.up),
+                    ("sideways", grid.sideways, mesh.sideways),
+                    ("down", grid.down, mesh.down),
+                ] {
+                    let (g, m) = (g.expect("grid spreads"), m.expect("mesh spreads"));
+                    assert!(
+                        (m / g - 1.0).abs() <= 0.15,
+                        "{heat_model:?} {direction} at {spacing} m: mesh {m} against grid {g} m/s"
                     );
                 }
             }

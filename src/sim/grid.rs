@@ -303,6 +303,7 @@ impl ClothBuilder {
             grid: Some(grid),
             spacing: self.spacing,
             particle_mass,
+            heat_lattice: None,
             live_indices: Vec::new(),
         };
         let mut parts = ClothParts {

@@ -8,6 +8,7 @@
 
 use super::error::ClothError;
 use super::grid::{ClothParts, MAX_PARTICLES};
+use super::lattice::mesh_lattice;
 use super::material::BurnMaterial;
 use super::particles::{BurnState, Particles};
 use super::springs::{SpanRule, SpringKind, Springs};
@@ -305,12 +306,14 @@ impl MeshClothBuilder {
             anchor,
             external_force: vec![Vec3::ZERO; n],
         };
+        let heat_lattice = mesh_lattice(&triangles, &particles.position);
         let topology = Topology {
             triangles,
             uv,
             grid: None,
             spacing,
             particle_mass: mean_mass,
+            heat_lattice,
             live_indices: Vec::new(),
         };
         let mut parts = ClothParts {

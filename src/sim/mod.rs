@@ -61,6 +61,7 @@ pub mod heat;
 pub mod heat_sources;
 pub mod ignition;
 pub mod integrate;
+pub mod lattice;
 pub mod material;
 pub mod mesh;
 pub mod mesh_cloth;

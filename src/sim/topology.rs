@@ -1,5 +1,6 @@
 //! Triangles, texture coordinates and scale of a cloth, and triangle culling.
 
+use super::lattice::Lattice;
 use super::particles::BurnState;
 use glam::Vec2;
 
@@ -32,6 +33,10 @@ pub struct Topology {
     pub spacing: f32,
     /// Typical particle mass, kg (sets spring damping from the damping ratio).
     pub particle_mass: f32,
+    /// For a mesh cloth, its row spacing and neighbour count, which scale the paper model's
+    /// heat push to the grid's footing (see [`super::lattice`]); `None` for a grid, whose
+    /// `spacing` and 8 neighbours are that footing.
+    pub heat_lattice: Option<Lattice>,
     /// Flattened indices of the triangles whose three particles are unburnt, kept up to date
     /// by [`cull_triangles`]; this is the index buffer the renderer draws.
     pub live_indices: Vec<u32>,
