@@ -121,16 +121,7 @@ pub fn vertical_panel(case: &SpreadCase, limit: f32) -> Result<PanelSpread, Clot
     .map(|pair| pair.map(|(column, row)| index(n, column, row)));
     sim.ignite(index(n, centre, centre))?;
     let times = run_until(&mut sim, &marks.concat(), limit);
-    let speed = |d: usize| match (times.at[2 * d], times.at[2 * d + 1]) {
-        (Some(start), Some(end)) if end > start => Some(distance / (end - start)),
-        _ => None,
-    };
-    Ok(PanelSpread {
-        up: speed(0),
-        sideways: speed(1),
-        down: speed(2),
-        simulated: times.simulated,
-    })
+    Ok(times.panel_spread(|_| distance))
 }
 
 /// Runs the vertical panel for `case` on a [`MeshClothBuilder`] mesh instead of a grid: a
@@ -208,21 +199,10 @@ pub fn mesh_panel(case: &SpreadCase, jitter: f32, limit: f32) -> Result<PanelSpr
     let marks = directions.map(|d| [nearest(centre + MARKS.0 * d), nearest(centre + MARKS.1 * d)]);
     let times = run_until(&mut sim, &marks.concat(), limit);
     let position = &sim.particles.position;
-    let speed = |d: usize| {
+    Ok(times.panel_spread(|d| {
         let [near, far] = marks[d];
-        match (times.at[2 * d], times.at[2 * d + 1]) {
-            (Some(start), Some(end)) if end > start => {
-                Some(position[near].distance(position[far]) / (end - start))
-            }
-            _ => None,
-        }
-    };
-    Ok(PanelSpread {
-        up: speed(0),
-        sideways: speed(1),
-        down: speed(2),
-        simulated: times.simulated,
-    })
+        position[near].distance(position[far])
+    }))
 }
 
 /// Runs the 45° strip for `case` and returns the time for the front to climb
@@ -267,6 +247,23 @@ pub fn inclined_strip(case: &SpreadCase, limit: f32) -> Result<Option<f32>, Clot
 struct IgnitionTimes {
     at: Vec<Option<f32>>,
     simulated: f32,
+}
+
+impl IgnitionTimes {
+    /// A panel's three speeds, m/s, from times watched as [up, sideways, down] × [near, far]
+    /// marks, `distance(d)` apart in direction `d` (m).
+    fn panel_spread(&self, distance: impl Fn(usize) -> f32) -> PanelSpread {
+        let speed = |d: usize| match (self.at[2 * d], self.at[2 * d + 1]) {
+            (Some(start), Some(end)) if end > start => Some(distance(d) / (end - start)),
+            _ => None,
+        };
+        PanelSpread {
+            up: speed(0),
+            sideways: speed(1),
+            down: speed(2),
+            simulated: self.simulated,
+        }
+    }
 }
 
 /// Steps `sim` in frames until every particle of `watched` has ignited, nothing burns any
