@@ -9,7 +9,7 @@
 //! Writes `OUT_DIR/spread.md` (default `target/report/`); each case runs at most 480 s of
 //! simulated time by default (denim's physical downward front, 1 mm/s, needs 400 s to reach
 //! 0.4 m; a shorter limit reports slow fronts as "never"), at spacings of 50, 25, 12.5 and
-//! 5 mm.
+//! 5 mm; then cotton on meshes of irregular triangles at 25 and 12.5 mm beside the grid.
 
 use bevy_burning_cloth::report::{self, spread};
 use std::time::Instant;
@@ -26,7 +26,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let started = Instant::now();
     let rows = spread::study(&spread::cases(&spacings), limit)?;
-    let table = spread::markdown(&rows, limit);
+    let meshes = spread::mesh_study(&[0.025, 0.0125], limit)?;
+    let table = format!(
+        "{}\n{}",
+        spread::markdown(&rows, limit),
+        spread::mesh_markdown(&meshes)
+    );
     report::print_and_write(&table, &dir, "spread.md", started)?;
     Ok(())
 }

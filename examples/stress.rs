@@ -6,6 +6,7 @@
 //! ```
 //!
 //! `-- --default-only`: the size table for the default solver alone (a minute, for iterating);
+//! `-- --physical-heat-only`: the same under `HeatModel::PHYSICAL` (its flame front);
 //! `-- --many-only`: the twenty-cloth scene alone; `-- --plume-only` (with `fluid`): the plume's
 //! table alone.
 //!
@@ -20,7 +21,7 @@ use bevy::math::{Affine3A, Vec3};
 use bevy::tasks::{ComputeTaskPool, TaskPool};
 use bevy_burning_cloth::sim::mesh::MeshData;
 use bevy_burning_cloth::sim::{
-    BurnMaterial, ClothBuilder, ClothSim, Integrator, PhaseTimes, SpringKind,
+    BurnMaterial, ClothBuilder, ClothSim, HeatModel, Integrator, PhaseTimes, SpringKind,
 };
 use std::time::{Duration, Instant};
 
@@ -67,10 +68,19 @@ fn hanging(size: u32, material: BurnMaterial) -> ClothSim {
     .expect("valid cloth")
 }
 
-fn run(size: u32, integrator: Integrator, frames: u32, pool: &TaskPool) -> Run {
+fn run(
+    size: u32,
+    integrator: Integrator,
+    heat_model: HeatModel,
+    frames: u32,
+    pool: &TaskPool,
+) -> Run {
     let mut sim = hanging(size, BurnMaterial::COTTON);
-    sim.update_settings(|s| s.solver.integrator = integrator)
-        .expect("valid integrator");
+    sim.update_settings(|s| {
+        s.solver.integrator = integrator;
+        s.solver.heat_model = heat_model;
+    })
+    .expect("valid settings");
     // Hang for 2 s, then measure the stretch and set it alight.
     for _ in 0..120 {
         sim.step_on(DT, Some(pool));
@@ -151,7 +161,7 @@ fn median(mut runs: Vec<Run>) -> Run {
     runs[runs.len() / 2]
 }
 
-fn size_table(pool: &TaskPool, integrators: &[Integrator]) {
+fn size_table(pool: &TaskPool, integrators: &[Integrator], heat_model: HeatModel) {
     println!(
         "| cloth | particles | solver chosen | ran as | substeps | ms per frame | ns per particle | heat | combustion | pieces | dynamics | culling | smoke | mesh | max stretch hanging |"
     );
@@ -163,7 +173,7 @@ fn size_table(pool: &TaskPool, integrators: &[Integrator]) {
             let slow = !integrator.is_unconditionally_stable();
             let frames = (1_000_000 / particles).clamp(10, 600) / if slow { 4 } else { 1 };
             let repeats = if slow { 3 } else { 5 };
-            let runs = (0..repeats).map(|_| run(size, integrator, frames.max(5), pool));
+            let runs = (0..repeats).map(|_| run(size, integrator, heat_model, frames.max(5), pool));
             let run = median(runs.collect());
             let total = run.total();
             let phases: Vec<String> = run.phases.iter().map(|p| format!("{p:.3}")).collect();
@@ -444,10 +454,19 @@ fn main() {
         return;
     }
     if std::env::args().any(|a| a == "--default-only") {
-        size_table(pool, &[Integrator::default()]);
+        size_table(pool, &[Integrator::default()], HeatModel::default());
         return;
     }
-    size_table(pool, &[Integrator::default(), Integrator::SymplecticEuler]);
+    if std::env::args().any(|a| a == "--physical-heat-only") {
+        println!("Heat model: physical (the flame front of `sim::flame`).\n");
+        size_table(pool, &[Integrator::default()], HeatModel::PHYSICAL);
+        return;
+    }
+    size_table(
+        pool,
+        &[Integrator::default(), Integrator::SymplecticEuler],
+        HeatModel::default(),
+    );
     many_cloths_table();
     #[cfg(feature = "smoke")]
     smoke_table();
