@@ -7,6 +7,7 @@
 //!
 //! `-- --default-only`: the size table for the default solver alone (a minute, for iterating);
 //! `-- --physical-heat-only`: the same under `HeatModel::PHYSICAL` (its flame front);
+//! `--sizes 32 64`: only those sizes in the size table (for profiling one);
 //! `-- --many-only`: the twenty-cloth scene alone; `-- --plume-only` (with `fluid`): the plume's
 //! table alone.
 //!
@@ -161,12 +162,30 @@ fn median(mut runs: Vec<Run>) -> Run {
     runs[runs.len() / 2]
 }
 
+/// The cloth sizes of the size table: 32, 64, 128 and 256, or those after `--sizes` (for
+/// profiling one, e.g. `--sizes 32`).
+fn sizes() -> Vec<u32> {
+    let args: Vec<String> = std::env::args().collect();
+    let given: Vec<u32> = args
+        .iter()
+        .skip_while(|a| *a != "--sizes")
+        .skip(1)
+        .map_while(|a| a.parse().ok())
+        .filter(|&n| n >= 2)
+        .collect();
+    if given.is_empty() {
+        vec![32, 64, 128, 256]
+    } else {
+        given
+    }
+}
+
 fn size_table(pool: &TaskPool, integrators: &[Integrator], heat_model: HeatModel) {
     println!(
         "| cloth | particles | solver chosen | ran as | substeps | ms per frame | ns per particle | heat | combustion | pieces | dynamics | culling | smoke | mesh | max stretch hanging |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for size in [32u32, 64, 128, 256] {
+    for size in sizes() {
         let particles = size * size;
         for &integrator in integrators {
             // Fewer frames and runs for the slow one, so the table takes minutes, not hours.

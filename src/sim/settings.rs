@@ -38,8 +38,9 @@ pub struct SolverSettings {
     /// Provot's stretch limit, or `None` to turn it off. The force-based integrators apply
     /// it after every substep to every in-plane spring, up to `passes` times; XPBD, whose
     /// constraints and [`Self::tether_stretch`] hold the rest of the cloth, after every
-    /// substep to the springs heat has shrunk, at most two passes (the second revisits only
-    /// what the first corrected), so a burning cloth crumples rather than stretches.
+    /// substep to the springs heat has shrunk, in up to `passes` rounds over all of them
+    /// (stopping after a round that corrects nothing), so a burning cloth crumples rather
+    /// than stretches.
     pub provot: Option<ProvotSettings>,
     /// XPBD's tethers (long-range attachments): no particle gets farther from the pin it
     /// hangs from than its distance through the cloth times `1 + tether_stretch` (0.05 is
