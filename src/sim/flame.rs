@@ -98,11 +98,12 @@ pub fn spread_speed(material: &BurnMaterial, cos_up: f32) -> f32 {
 }
 
 /// Seconds the front takes to cross `offset` (world metres) at `material`'s spread speed in
-/// its direction: the spread shape's gauge (infinite where the speed is zero).
+/// its direction: the spread shape's gauge (infinite where the speed is zero, and for no
+/// offset, which has no direction: a path back to where it started is no shortcut).
 fn crossing_time(material: &BurnMaterial, offset: Vec3, up: Vec3) -> f32 {
     let distance = offset.length();
-    if distance == 0.0 {
-        return 0.0;
+    if !(distance.is_finite() && distance > 0.0) {
+        return f32::INFINITY;
     }
     distance / spread_speed(material, offset.dot(up) / distance)
 }
@@ -333,18 +334,23 @@ pub fn flame_step(
                     continue;
                 }
                 let distance = springs.initial_rest_length[s];
-                let link = (position[j] - position[i]).normalize_or_zero() * distance;
-                let crossing = crossing_time(material, link, params.up);
+                let direction = (position[j] - position[i]).normalize_or_zero();
+                let crossing = distance / spread_speed(material, direction.dot(params.up));
                 if !(crossing.is_finite() && crossing > 0.0) || age > FLAME_WINDOW * crossing {
                     continue;
                 }
                 heats = true;
+                let link = direction * distance;
                 let along_link = Origin {
                     age: reached,
                     offset: link,
                     path: distance,
                 };
                 flames.reach(j, reached - crossing, crossing, along_link);
+                if direction == Vec3::ZERO {
+                    // The two ends at one point (or not finite): no direction to go straight in.
+                    continue;
+                }
                 let straight = Origin {
                     age: from.age,
                     offset: from.offset + link,
