@@ -351,10 +351,7 @@ pub fn mesh_markdown(rows: &[MeshRow]) -> String {
          |---|---|---|---|---|---|---|---|\n"
     );
     for row in rows {
-        let model = match row.case.heat_model {
-            HeatModel::Paper => "paper",
-            HeatModel::Physical(_) => "physical",
-        };
+        let model = model_name(row.case.heat_model);
         let [grid, mesh] = [row.grid, row.mesh];
         out.push_str(&format!(
             "| {model} | {:.1} | {} | {} | {} | {} | {} | {} |\n",
@@ -388,6 +385,14 @@ pub fn cases(spacings: &[f32]) -> Vec<SpreadCase> {
     cases
 }
 
+/// A heat model's name in the tables.
+fn model_name(heat_model: HeatModel) -> &'static str {
+    match heat_model {
+        HeatModel::Paper => "paper",
+        HeatModel::Physical(_) => "physical",
+    }
+}
+
 /// A speed in mm/s: whole numbers, one decimal below 10 mm/s (where a rounding would hide a
 /// third of the value).
 fn millimetres_per_second(speed: Option<f32>) -> String {
@@ -414,10 +419,7 @@ pub fn markdown(rows: &[SpreadRow], limit: f32) -> String {
     out.push_str("| material | heat model | spacing mm | up mm/s | sideways mm/s | down mm/s | up / down | 45° strip, s to 127 mm |\n");
     out.push_str("|---|---|---|---|---|---|---|---|\n");
     for row in rows {
-        let model = match row.case.heat_model {
-            HeatModel::Paper => "paper",
-            HeatModel::Physical(_) => "physical",
-        };
+        let model = model_name(row.case.heat_model);
         let ratio = match (row.panel.up, row.panel.down) {
             (Some(up), Some(down)) => format!("{:.1}", up / down),
             _ => "-".to_owned(),
@@ -530,11 +532,11 @@ mod tests {
         // irregular triangles (vertices moved by up to a quarter of the spacing), both heat
         // models. The paper model climbed at 75 mm/s against the grid's 104 before its push
         // was scaled by the mesh's row spacing and neighbour count (`sim::lattice`); the
-        // physical model climbed at 45 against 90 before its flame crossed triangles as well
-        // as links (`flame::through_segment`): along links alone its front followed edges
-        // off the vertical, where cotton's ellipse, 8 times taller than wide, is slow.
+        // physical model climbed at 45 against 90 before its flame carried where its front
+        // started in a straight line (`sim::flame`): along links alone its front followed
+        // edges off the vertical, where cotton's ellipse, 8 times taller than wide, is slow.
         for heat_model in [HeatModel::Paper, HeatModel::PHYSICAL] {
-            let jitter = 0.25;
+            let jitter = MESH_JITTER;
             let at = |spacing| SpreadCase {
                 material: BurnMaterial::COTTON,
                 heat_model,

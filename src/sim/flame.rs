@@ -97,11 +97,11 @@ pub fn spread_speed(material: &BurnMaterial, cos_up: f32) -> f32 {
     }
 }
 
-/// Seconds the front takes to cross `offset` (world metres) at `material`'s spread speed in
-/// its direction: the spread shape's gauge (infinite where the speed is zero, and for no
-/// offset, which has no direction: a path back to where it started is no shortcut).
-fn crossing_time(material: &BurnMaterial, offset: Vec3, up: Vec3) -> f32 {
-    let distance = offset.length();
+/// Seconds the front takes to cross `offset` (world metres, `distance` = its length) at
+/// `material`'s spread speed in its direction: the spread shape's gauge (infinite where the
+/// speed is zero, and for no offset, which has no direction: a path back to where it started
+/// is no shortcut).
+fn crossing_time(material: &BurnMaterial, offset: Vec3, distance: f32, up: Vec3) -> f32 {
     if !(distance.is_finite() && distance > 0.0) {
         return f32::INFINITY;
     }
@@ -356,11 +356,13 @@ pub fn flame_step(
                     offset: from.offset + link,
                     path: from.path + distance,
                 };
-                let detour = straight.path - straight.offset.length();
+                let straight_distance = straight.offset.length();
+                let detour = straight.path - straight_distance;
                 if detour <= (1.0 - STRAIGHTNESS) * straight.path
                     || detour <= DETOUR_SLACK * distance
                 {
-                    let time = crossing_time(material, straight.offset, params.up);
+                    let time =
+                        crossing_time(material, straight.offset, straight_distance, params.up);
                     if time.is_finite() {
                         flames.reach(j, straight.age - time, crossing, straight);
                     }
