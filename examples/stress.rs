@@ -7,7 +7,8 @@
 //!
 //! `-- --default-only`: the size table for the default solver alone (a minute, for iterating);
 //! `-- --physical-heat-only`: the same under `HeatModel::PHYSICAL` (its flame front);
-//! `--sizes 32 64`: only those sizes in the size table (for profiling one);
+//! `--sizes 32 64`: only those sizes in the size table, or plume grids with `--plume-only`
+//! (for profiling one);
 //! `-- --many-only`: the twenty-cloth scene alone; `-- --plume-only` (with `fluid`): the plume's
 //! table alone.
 //!
@@ -163,8 +164,9 @@ fn median(mut runs: Vec<Run>) -> Run {
 }
 
 /// The cloth sizes of the size table: 32, 64, 128 and 256, or those after `--sizes` (for
-/// profiling one, e.g. `--sizes 32`).
-fn sizes() -> Vec<u32> {
+/// profiling one, e.g. `--sizes 32`); with `--plume-only`, the plume grid's cells a side
+/// (16 to 48 by default).
+fn sizes(default: &[u32]) -> Vec<u32> {
     let args: Vec<String> = std::env::args().collect();
     let given: Vec<u32> = args
         .iter()
@@ -174,7 +176,7 @@ fn sizes() -> Vec<u32> {
         .filter(|&n| n >= 2)
         .collect();
     if given.is_empty() {
-        vec![32, 64, 128, 256]
+        default.to_vec()
     } else {
         given
     }
@@ -185,7 +187,7 @@ fn size_table(pool: &TaskPool, integrators: &[Integrator], heat_model: HeatModel
         "| cloth | particles | solver chosen | ran as | substeps | ms per frame | ns per particle | heat | combustion | pieces | dynamics | culling | smoke | mesh | max stretch hanging |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for size in sizes() {
+    for size in sizes(&[32, 64, 128, 256]) {
         let particles = size * size;
         for &integrator in integrators {
             // Fewer frames and runs for the slow one, so the table takes minutes, not hours.
@@ -440,7 +442,7 @@ fn plume_table(pool: &TaskPool) {
         "| plume grid (2.56 m box) | cells | step ms per frame (median of 60) | CG iterations | cells advected | plume on the 64 x 64 cloth, ms |"
     );
     println!("|---|---|---|---|---|---|");
-    for resolution in [16, 24, 32, 40, 48] {
+    for resolution in sizes(&[16, 24, 32, 40, 48]).into_iter().map(|n| n as usize) {
         let (step, iterations, coupling, active) = plume_run(resolution, pool);
         println!(
             "| {resolution}³ | {} | {step:.3} | {iterations:.0} | {:.0} % | {coupling:.3} |",
