@@ -120,22 +120,33 @@ impl ActiveSpans {
         reach: usize,
         busy: impl Fn([usize; 3], usize) -> bool,
     ) {
+        let nx = shape.dims[0];
+        self.update_rows(shape, reach, |j, k| {
+            let first = nx * (j + shape.dims[1] * k);
+            let is_busy = |i: usize| busy([i, j, k], first + i);
+            let lo = (0..nx).position(is_busy)?;
+            Some([lo, (lo..nx).rev().find(|&i| is_busy(i)).unwrap_or(lo)])
+        });
+    }
+
+    /// [`ActiveSpans::update`] from each row's first and last busy cell, `busy_row(j, k) ->
+    /// Some([first, last])` (`None`: nothing busy in the row), for callers that find them a
+    /// row at a time.
+    pub fn update_rows(
+        &mut self,
+        shape: &GridShape,
+        reach: usize,
+        mut busy_row: impl FnMut(usize, usize) -> Option<[usize; 2]>,
+    ) {
         let [nx, ny, nz] = shape.dims;
         let reach_u = reach as u32;
         for (row, span) in self.spans.iter_mut().enumerate() {
-            let (j, k) = (row % ny, row / ny);
-            let first = row * nx;
-            let is_busy = |i: usize| busy([i, j, k], first + i);
-            let lo = (0..nx).position(is_busy);
-            *span = match lo {
+            *span = match busy_row(row % ny, row / ny) {
                 None => EMPTY,
-                Some(lo) => {
-                    let hi = (lo..nx).rev().find(|&i| is_busy(i)).unwrap_or(lo);
-                    [
-                        (lo as u32).saturating_sub(reach_u),
-                        (hi as u32 + 1 + reach_u).min(nx as u32),
-                    ]
-                }
+                Some([lo, hi]) => [
+                    (lo as u32).saturating_sub(reach_u),
+                    (hi as u32 + 1 + reach_u).min(nx as u32),
+                ],
             };
         }
         // Grow along y, then along z: a row takes the hull of the rows within `reach`.

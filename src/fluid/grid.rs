@@ -100,6 +100,13 @@ impl GridShape {
     #[inline(always)]
     pub fn stencil(&self, point: Vec3, dims: [usize; 3], stagger: Stagger) -> Stencil {
         let g = (point - self.origin) * (1.0 / self.cell) - stagger.0;
+        Self::stencil_at_sample(g, dims)
+    }
+
+    /// The trilinear stencil at `g`, a point in a field's sample coordinates (sample `(i, j,
+    /// k)` at `g = (i, j, k)`), for a field of `dims` samples.
+    #[inline(always)]
+    pub fn stencil_at_sample(g: Vec3, dims: [usize; 3]) -> Stencil {
         let (i, fx) = axis_cell(g.x, dims[0]);
         let (j, fy) = axis_cell(g.y, dims[1]);
         let (k, fz) = axis_cell(g.z, dims[2]);

@@ -29,6 +29,7 @@ pub mod grid;
 mod plugin;
 pub mod plume;
 pub mod pressure;
+mod reduce;
 pub mod settings;
 #[cfg(test)]
 mod validation;

@@ -6,6 +6,7 @@ use super::advect::{Advection, Decay, centre_velocity};
 use super::forces::{VorticityScratch, add_buoyancy, add_vorticity_confinement, for_each_face};
 use super::grid::{GridShape, Stagger};
 use super::pressure::{PressureSolver, SolveReport, Wall};
+use super::reduce::{max_abs, max_non_negative};
 use super::settings::{AIR_HEAT_CAPACITY, PlumeSettings, PlumeSettingsError};
 use bevy::tasks::TaskPool;
 use glam::Vec3;
@@ -47,6 +48,8 @@ pub struct Plume {
     vorticity: VorticityScratch,
     rhs: Vec<f32>,
     active: ActiveSpans,
+    /// One row of cells' busy flags ([`Plume::find_busy_air`]).
+    busy: Vec<bool>,
     /// Per axis, the faces no air flows through: touching a solid cell or a closed wall.
     blocked: [Vec<u32>; 3],
     /// Whether heat, smoke or a push came in since the last step.
@@ -92,6 +95,7 @@ impl Plume {
             vorticity: VorticityScratch::new(n),
             rhs: vec![0.0; n],
             active: ActiveSpans::new(&shape),
+            busy: vec![false; shape.dims[0]],
             blocked: Default::default(),
             fed: false,
             quiet: true,
@@ -405,13 +409,9 @@ impl Plume {
         );
         let solve = self.project(pool);
         self.fed = false;
-        let max_temperature = self.temperature.iter().fold(0.0f32, |m, t| m.max(t.abs()));
-        let max_speed = self
-            .velocity
-            .iter()
-            .flatten()
-            .fold(0.0f32, |m, u| m.max(u.abs()));
-        let max_smoke = self.smoke.iter().fold(0.0f32, |m, s| m.max(*s));
+        let max_temperature = max_abs(&self.temperature);
+        let max_speed = self.velocity.iter().map(|v| max_abs(v)).fold(0.0, f32::max);
+        let max_smoke = max_non_negative(&self.smoke);
         self.quiet = max_temperature < QUIET_TEMPERATURE
             && max_speed < QUIET_SPEED
             && max_smoke < QUIET_SMOKE;
@@ -436,11 +436,7 @@ impl Plume {
     /// busy thresholds, grown by the farthest the air travels in `dt` plus one cell.
     fn find_busy_air(&mut self, dt: f32, wind: Vec3) {
         let shape = self.shape;
-        let fastest = self
-            .velocity
-            .iter()
-            .flatten()
-            .fold(0.0f32, |m, u| m.max(u.abs()));
+        let fastest = self.velocity.iter().map(|v| max_abs(v)).fold(0.0, f32::max);
         let travel = (fastest * 3f32.sqrt() + wind.length()) * dt / shape.cell;
         let largest = shape.dims.into_iter().max().unwrap_or(1);
         if !travel.is_finite() || travel >= largest as f32 {
@@ -449,18 +445,32 @@ impl Plume {
         }
         let reach = travel.ceil() as usize + 1;
         let [u, v, w] = &self.velocity;
-        let (temperature, smoke) = (&self.temperature, &self.smoke);
+        let (temperature, smoke, flags) = (&self.temperature, &self.smoke, &mut self.busy);
         let [nx, ny, _] = shape.dims;
-        self.active.update(&shape, reach, |[i, j, k], c| {
-            if temperature[c].abs() > BUSY_TEMPERATURE || smoke[c] > BUSY_SMOKE {
-                return true;
+        self.active.update_rows(&shape, reach, |j, k| {
+            // A row at a time, in loops over slices that the compiler turns into SIMD: a cell
+            // is busy when hot, smoky, or one of its six faces is fast.
+            let c = nx * (j + ny * k);
+            let (t, s) = (&temperature[c..c + nx], &smoke[c..c + nx]);
+            let fu = (nx + 1) * (j + ny * k);
+            let (west, east) = (&u[fu..fu + nx], &u[fu + 1..fu + 1 + nx]);
+            let fv = nx * (j + (ny + 1) * k);
+            let (south, north) = (&v[fv..fv + nx], &v[fv + nx..fv + 2 * nx]);
+            let (below, above) = (&w[c..c + nx], &w[c + nx * ny..c + nx * ny + nx]);
+            let fast = |a: f32| a.abs() > BUSY_SPEED;
+            let flags = &mut flags[..nx];
+            for i in 0..nx {
+                flags[i] = (t[i].abs() > BUSY_TEMPERATURE)
+                    | (s[i] > BUSY_SMOKE)
+                    | fast(west[i])
+                    | fast(east[i])
+                    | fast(south[i])
+                    | fast(north[i])
+                    | fast(below[i])
+                    | fast(above[i]);
             }
-            let fu = i + (nx + 1) * (j + ny * k);
-            let fv = i + nx * (j + (ny + 1) * k);
-            let fw = c;
-            [u[fu], u[fu + 1], v[fv], v[fv + nx], w[fw], w[fw + nx * ny]]
-                .iter()
-                .any(|s| s.abs() > BUSY_SPEED)
+            let first = flags.iter().position(|&f| f)?;
+            Some([first, flags.iter().rposition(|&f| f).unwrap_or(first)])
         });
     }
 
@@ -583,19 +593,24 @@ fn largest_over_air(values: &[f32], solid: &[bool]) -> f32 {
         .fold(0.0f32, |m, (d, _)| m.max(d.abs()))
 }
 
-/// `∇·u` per cell, 1/s: the net outflow through its six faces over its size.
+/// `∇·u` per cell, 1/s: the net outflow through its six faces over its size; a row of cells
+/// at a time, in loops over slices that the compiler turns into SIMD.
 fn divergence(shape: &GridShape, velocity: &[Vec<f32>; 3], out: &mut [f32]) {
     let [nx, ny, nz] = shape.dims;
     let [u, v, w] = velocity;
-    let (ux, vx, vy, wx, wy) = (nx + 1, nx, ny + 1, nx, ny);
+    let layer = nx * ny;
     for k in 0..nz {
         for j in 0..ny {
+            let c = nx * (j + ny * k);
+            let fu = (nx + 1) * (j + ny * k);
+            let (west, east) = (&u[fu..fu + nx], &u[fu + 1..fu + 1 + nx]);
+            let fv = nx * (j + (ny + 1) * k);
+            let (south, north) = (&v[fv..fv + nx], &v[fv + nx..fv + 2 * nx]);
+            let (below, above) = (&w[c..c + nx], &w[c + layer..c + layer + nx]);
+            let out = &mut out[c..c + nx];
             for i in 0..nx {
-                let fu = i + ux * (j + ny * k);
-                let fv = i + vx * (j + vy * k);
-                let fw = i + wx * (j + wy * k);
-                out[shape.index(i, j, k)] =
-                    (u[fu + 1] - u[fu] + v[fv + vx] - v[fv] + w[fw + wx * wy] - w[fw]) / shape.cell;
+                out[i] =
+                    (east[i] - west[i] + north[i] - south[i] + above[i] - below[i]) / shape.cell;
             }
         }
     }

@@ -18,6 +18,7 @@
 //! all six neighbours sums the air ones.
 
 use super::grid::GridShape;
+use super::reduce::max_abs;
 use crate::sim::parallel::for_each_part;
 use bevy::reflect::Reflect;
 use bevy::tasks::TaskPool;
@@ -150,55 +151,67 @@ impl Padded {
     }
 }
 
-/// The `LANES` values of `v` from `at`.
-#[inline(always)]
-fn window(v: &[f32], at: usize) -> [f32; LANES] {
-    let mut out = [0.0; LANES];
-    out.copy_from_slice(&v[at..at + LANES]);
-    out
-}
-
 /// `f` lane by lane.
 #[inline(always)]
 fn zip(a: [f32; LANES], b: [f32; LANES], f: impl Fn(f32, f32) -> f32) -> [f32; LANES] {
     core::array::from_fn(|l| f(a[l], b[l]))
 }
 
-/// `Σ x_j` over the six neighbours of each of the `LANES` cells from `p` (−x, +x, −y, +y,
-/// −z, +z, in that order).
+/// The `n` values of `v` from `from` as chunks of `LANES` (`n` a whole number of chunks).
 #[inline(always)]
-fn neighbour_sums(x: &[f32], p: usize, row: usize, layer: usize) -> [f32; LANES] {
-    let add = |a: f32, b: f32| a + b;
-    let sum = zip(window(x, p - 1), window(x, p + 1), add);
-    let sum = zip(sum, window(x, p - row), add);
-    let sum = zip(sum, window(x, p + row), add);
-    let sum = zip(sum, window(x, p - layer), add);
-    zip(sum, window(x, p + layer), add)
+fn chunks<T>(v: &[T], from: usize, n: usize) -> &[[T; LANES]] {
+    v[from..from + n].as_chunks::<LANES>().0
 }
 
-/// A loop body over a level: the values of the `LANES` cells from `p` (even) that a loop
-/// writes. Implementations are inlined into the loop, so the loop compiled for AVX
-/// ([`wide`]) computes them with AVX too.
-trait Stencil: Sync {
-    fn chunk(&self, p: usize) -> [f32; LANES];
+/// A run of cells of a field and the runs of their six neighbours, as chunks: chunk `c` of
+/// `west` holds the −x neighbours of chunk `c` of `here`, and so on. Reading them chunk by
+/// chunk needs no bounds test per value, so the loops vectorise.
+struct Around<'a, T> {
+    here: &'a [[T; LANES]],
+    west: &'a [[T; LANES]],
+    east: &'a [[T; LANES]],
+    south: &'a [[T; LANES]],
+    north: &'a [[T; LANES]],
+    below: &'a [[T; LANES]],
+    above: &'a [[T; LANES]],
 }
 
-/// `A x`, zero on solid and ghost cells.
-struct Apply<'a> {
-    shape: &'a Padded,
-    diag: &'a [f32],
-    x: &'a [f32],
-}
-
-impl Apply<'_> {
-    /// `(A x)` at the `LANES` cells from `p`, before solid and ghost cells are zeroed, and
-    /// their `n_i`.
+impl<'a, T> Around<'a, T> {
+    /// The `n` cells of `x` (a field over `shape`) from `from`, and their neighbours.
     #[inline(always)]
-    fn raw(&self, p: usize) -> ([f32; LANES], [f32; LANES]) {
-        let sums = neighbour_sums(self.x, p, self.shape.row, self.shape.layer);
-        let (d, x) = (window(self.diag, p), window(self.x, p));
-        (zip(zip(d, x, |d, x| d * x), sums, |dx, sum| dx - sum), d)
+    fn new(x: &'a [T], shape: &Padded, from: usize, n: usize) -> Self {
+        let (row, layer) = (shape.row, shape.layer);
+        Self {
+            here: chunks(x, from, n),
+            west: chunks(x, from - 1, n),
+            east: chunks(x, from + 1, n),
+            south: chunks(x, from - row, n),
+            north: chunks(x, from + row, n),
+            below: chunks(x, from - layer, n),
+            above: chunks(x, from + layer, n),
+        }
     }
+
+    /// `Σ x_j` over the six neighbours of each cell of chunk `c` (−x, +x, −y, +y, −z, +z, in
+    /// that order), reading each value with `get`.
+    #[inline(always)]
+    fn sums(&self, c: usize, get: impl Fn(&T) -> f32) -> [f32; LANES] {
+        let load =
+            |chunk: &[T; LANES]| -> [f32; LANES] { core::array::from_fn(|l| get(&chunk[l])) };
+        let add = |a: f32, b: f32| a + b;
+        let sum = zip(load(&self.west[c]), load(&self.east[c]), add);
+        let sum = zip(sum, load(&self.south[c]), add);
+        let sum = zip(sum, load(&self.north[c]), add);
+        let sum = zip(sum, load(&self.below[c]), add);
+        zip(sum, load(&self.above[c]), add)
+    }
+}
+
+/// A loop over a level: writes the values of the `out.len()` cells from `from` (even, a
+/// whole number of chunks). Implementations are inlined into the loop, so the loop compiled
+/// for AVX ([`wide`]) computes them with AVX too.
+trait Stencil: Sync {
+    fn write(&self, from: usize, out: &mut [f32]);
 }
 
 /// `value` where `n > 0` (air), else zero.
@@ -207,31 +220,58 @@ fn on_air(n: [f32; LANES], value: [f32; LANES]) -> [f32; LANES] {
     zip(n, value, |n, value| if n > 0.0 { value } else { 0.0 })
 }
 
+/// `A x`, or with `b`, `b − A x`; zero on solid and ghost cells.
+struct Apply<'a> {
+    shape: &'a Padded,
+    diag: &'a [f32],
+    x: &'a [f32],
+    b: Option<&'a [f32]>,
+}
+
 impl Stencil for Apply<'_> {
     #[inline(always)]
-    fn chunk(&self, p: usize) -> [f32; LANES] {
-        let (ax, n) = self.raw(p);
-        on_air(n, ax)
+    fn write(&self, from: usize, out: &mut [f32]) {
+        let n = out.len();
+        let out = out.as_chunks_mut::<LANES>().0;
+        let x = Around::new(self.x, self.shape, from, n);
+        let diag = chunks(self.diag, from, n);
+        // Each loop's `black_box` exit keeps the compiler from vectorising across chunks
+        // (gathering each lane from eight places, hundreds of inserts a chunk), so it
+        // vectorises within one. (Written out, not through a closure, which it would not
+        // inline into the AVX copy.)
+        match self.b {
+            None => {
+                for c in 0..out.len() {
+                    out[c] = on_air(diag[c], product(&x, diag, c));
+                    if core::hint::black_box(false) {
+                        break;
+                    }
+                }
+            }
+            Some(b) => {
+                let b = chunks(b, from, n);
+                for c in 0..out.len() {
+                    let ax = product(&x, diag, c);
+                    out[c] = on_air(diag[c], zip(b[c], ax, |b, ax| b - ax));
+                    if core::hint::black_box(false) {
+                        break;
+                    }
+                }
+            }
+        }
     }
 }
 
-/// `b − A x`, zero on solid and ghost cells.
-struct Residual<'a> {
-    apply: Apply<'a>,
-    b: &'a [f32],
-}
-
-impl Stencil for Residual<'_> {
-    #[inline(always)]
-    fn chunk(&self, p: usize) -> [f32; LANES] {
-        let (ax, n) = self.apply.raw(p);
-        on_air(n, zip(window(self.b, p), ax, |b, ax| b - ax))
-    }
+/// `(A x)` at chunk `c` (before solid and ghost cells are zeroed): `n x − Σ x_j`.
+#[inline(always)]
+fn product(x: &Around<f32>, diag: &[[f32; LANES]], c: usize) -> [f32; LANES] {
+    let dx = zip(diag[c], x.here[c], |d, x| d * x);
+    zip(dx, x.sums(c, |v| *v), |dx, sum| dx - sum)
 }
 
 /// One Gauss-Seidel update of the cells of one colour, read from `x` as it was before the
 /// half-sweep: lanes set in `mask` (every other one, see [`lane_mask`]) take `(b + Σ x_j) / n`,
-/// the others keep their value.
+/// the others keep their value. [`relax_in_place`] is the same on one thread.
 struct Relax<'a> {
     shape: &'a Padded,
     inverse: &'a [f32],
@@ -242,9 +282,35 @@ struct Relax<'a> {
 
 impl Stencil for Relax<'_> {
     #[inline(always)]
-    fn chunk(&self, p: usize) -> [f32; LANES] {
-        relaxed(self.shape, self.inverse, self.b, self.x, self.mask, p)
+    fn write(&self, from: usize, out: &mut [f32]) {
+        let n = out.len();
+        let out = out.as_chunks_mut::<LANES>().0;
+        let x = Around::new(self.x, self.shape, from, n);
+        let (b, inverse) = (chunks(self.b, from, n), chunks(self.inverse, from, n));
+        for c in 0..out.len() {
+            let new = relaxed(b[c], x.sums(c, |v| *v), inverse[c]);
+            out[c] = blend(self.mask, new, x.here[c]);
+            if core::hint::black_box(false) {
+                break;
+            }
+        }
     }
+}
+
+/// `(b + Σ x_j) / n`, as `1 / n` times.
+#[inline(always)]
+fn relaxed(b: [f32; LANES], sums: [f32; LANES], inverse: [f32; LANES]) -> [f32; LANES] {
+    zip(zip(b, sums, |b, sum| b + sum), inverse, |v, inverse| {
+        v * inverse
+    })
+}
+
+/// `new` in the lanes set in `mask`, `old` in the others.
+#[inline(always)]
+fn blend(mask: [u32; LANES], new: [f32; LANES], old: [f32; LANES]) -> [f32; LANES] {
+    core::array::from_fn(|l| {
+        f32::from_bits((new[l].to_bits() & mask[l]) | (old[l].to_bits() & !mask[l]))
+    })
 }
 
 /// The lanes a half-sweep of `colour` updates: those of the lane parity its cells have (a
@@ -259,58 +325,33 @@ fn lane_mask(colour: usize) -> [u32; LANES] {
     }))
 }
 
-/// [`Relax`]'s chunk at `p`, reading `x`.
-#[inline(always)]
-fn relaxed(
-    shape: &Padded,
-    inverse: &[f32],
-    b: &[f32],
-    x: &[f32],
-    mask: [u32; LANES],
-    p: usize,
-) -> [f32; LANES] {
-    let sums = neighbour_sums(x, p, shape.row, shape.layer);
-    let (b, inverse, old) = (window(b, p), window(inverse, p), window(x, p));
-    let new = zip(zip(b, sums, |b, sum| b + sum), inverse, |v, inverse| {
-        v * inverse
-    });
-    core::array::from_fn(|l| {
-        f32::from_bits((new[l].to_bits() & mask[l]) | (old[l].to_bits() & !mask[l]))
-    })
-}
-
-/// Writes `stencil.chunk(p)` at `out[p − base]` for every chunk of `out`.
-#[inline(always)]
-fn write_chunks<S: Stencil>(stencil: &S, out: &mut [f32], base: usize) {
-    let (chunks, _) = out.as_chunks_mut::<LANES>();
-    let mut at = base;
-    for chunk in chunks {
-        *chunk = stencil.chunk(at);
-        at += LANES;
-        // An exit the compiler cannot count keeps it from vectorising across chunks
-        // (gathering each lane from eight places), so it vectorises within one.
-        if core::hint::black_box(false) {
-            break;
-        }
-    }
-}
-
-/// A red-black half-sweep of the lanes in `mask` over the whole level, in place. Each chunk
-/// is stored only after the next one's neighbours are loaded: a load overlapping a store just
-/// made waits for it. (In place is right because a cell reads only the other colour, which
-/// the half-sweep leaves alone.)
+/// A red-black half-sweep of the lanes in `mask` over the whole level, in place: [`Relax`]
+/// with `x` read and written through [`Cell`](core::cell::Cell)s, so a store through one
+/// view is seen by the others in program order. Each chunk is stored only after the next
+/// one's neighbours are loaded: a load overlapping a store just made waits for it. (In place
+/// is right because a cell reads only the other colour, which the half-sweep leaves alone.)
 #[inline(always)]
 fn relax_in_place(shape: &Padded, inverse: &[f32], b: &[f32], x: &mut [f32], mask: [u32; LANES]) {
-    let mut pending: Option<(usize, [f32; LANES])> = None;
-    for p in (shape.start..shape.end).step_by(LANES) {
-        let values = relaxed(shape, inverse, b, x, mask, p);
-        if let Some((at, done)) = pending {
-            x[at..at + LANES].copy_from_slice(&done);
+    use core::cell::Cell;
+    let (from, n) = (shape.start, shape.end - shape.start);
+    let x = Around::new(Cell::from_mut(x).as_slice_of_cells(), shape, from, n);
+    let (b, inverse) = (chunks(b, from, n), chunks(inverse, from, n));
+    let store = |at: usize, values: [f32; LANES]| {
+        for (cell, value) in x.here[at].iter().zip(values) {
+            cell.set(value);
         }
-        pending = Some((p, values));
+    };
+    let mut pending: Option<(usize, [f32; LANES])> = None;
+    for c in 0..x.here.len() {
+        let new = relaxed(b[c], x.sums(c, Cell::get), inverse[c]);
+        let values = blend(mask, new, x.here[c].each_ref().map(Cell::get));
+        if let Some((at, done)) = pending {
+            store(at, done);
+        }
+        pending = Some((c, values));
     }
     if let Some((at, done)) = pending {
-        x[at..at + LANES].copy_from_slice(&done);
+        store(at, done);
     }
 }
 
@@ -320,7 +361,7 @@ fn relax_in_place(shape: &Padded, inverse: &[f32], b: &[f32], x: &mut [f32], mas
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
 mod wide {
-    use super::{LANES, Padded, Stencil, relax_in_place, write_chunks};
+    use super::{LANES, Padded, Stencil, relax_in_place};
 
     /// Whether this CPU runs AVX instructions (the standard library caches the answer).
     #[inline]
@@ -328,10 +369,10 @@ mod wide {
         std::arch::is_x86_feature_detected!("avx")
     }
 
-    /// [`write_chunks`] for AVX. Only called when [`available`].
-    pub(super) fn write<S: Stencil>(stencil: &S, out: &mut [f32], base: usize) {
+    /// [`Stencil::write`] for AVX. Only called when [`available`].
+    pub(super) fn write<S: Stencil>(stencil: &S, from: usize, out: &mut [f32]) {
         // SAFETY: called only after `available()` found AVX on this CPU.
-        unsafe { write_avx(stencil, out, base) }
+        unsafe { write_avx(stencil, from, out) }
     }
 
     /// [`relax_in_place`] for AVX. Only called when [`available`].
@@ -347,8 +388,8 @@ mod wide {
     }
 
     #[target_feature(enable = "avx")]
-    fn write_avx<S: Stencil>(stencil: &S, out: &mut [f32], base: usize) {
-        write_chunks(stencil, out, base);
+    fn write_avx<S: Stencil>(stencil: &S, from: usize, out: &mut [f32]) {
+        stencil.write(from, out);
     }
 
     #[target_feature(enable = "avx")]
@@ -357,13 +398,13 @@ mod wide {
     }
 }
 
-/// [`write_chunks`], compiled for AVX where the CPU has it.
-fn write_chunks_fast<S: Stencil>(stencil: &S, out: &mut [f32], base: usize) {
+/// [`Stencil::write`], compiled for AVX where the CPU has it.
+fn write_fast<S: Stencil>(stencil: &S, from: usize, out: &mut [f32]) {
     #[cfg(target_arch = "x86_64")]
     if wide::available() {
-        return wide::write(stencil, out, base);
+        return wide::write(stencil, from, out);
     }
-    write_chunks(stencil, out, base);
+    stencil.write(from, out);
 }
 
 /// [`relax_in_place`], compiled for AVX where the CPU has it.
@@ -411,9 +452,8 @@ fn level_pool(pool: Option<&TaskPool>, cells: usize) -> Option<&TaskPool> {
     pool.filter(|_| cells >= PARALLEL_CELLS && cfg!(feature = "parallel"))
 }
 
-/// Writes `stencil.chunk(p)` at `p` in `out` for every chunk of `shape`'s span, in parts
-/// over `pool`. Each part writes only its own cells, so the result is the same on any number
-/// of threads.
+/// Writes `stencil`'s values of `shape`'s span into `out`, in parts over `pool`. Each part
+/// writes only its own cells, so the result is the same on any number of threads.
 fn for_each_chunk<S: Stencil>(
     shape: &Padded,
     out: &mut [f32],
@@ -423,11 +463,11 @@ fn for_each_chunk<S: Stencil>(
     let (start, end) = (shape.start, shape.end);
     let pool = level_pool(pool, shape.cells());
     if pool.is_none() {
-        return write_chunks_fast(stencil, &mut out[start..end], start);
+        return write_fast(stencil, start, &mut out[start..end]);
     }
     let parts = out[start..end].chunks_mut(CELLS_PER_PART).enumerate();
     for_each_part(pool, parts, |(part, out)| {
-        write_chunks_fast(stencil, out, start + part * CELLS_PER_PART);
+        write_fast(stencil, start + part * CELLS_PER_PART, out);
     });
 }
 
@@ -493,21 +533,22 @@ impl Level {
         for_each_chunk(&self.shape, y, pool, &self.operator(x));
     }
 
-    /// The operator `A` applied to `x`, as a loop body.
+    /// The operator `A` applied to `x`, as a loop.
     fn operator<'a>(&'a self, x: &'a [f32]) -> Apply<'a> {
         Apply {
             shape: &self.shape,
             diag: &self.diag,
             x,
+            b: None,
         }
     }
 
     /// `r = b − A x` (zero on solid and ghost cells).
     fn residual(&mut self, pool: Option<&TaskPool>) {
         let mut r = core::mem::take(&mut self.r);
-        let residual = Residual {
-            apply: self.operator(&self.x),
-            b: &self.b,
+        let residual = Apply {
+            b: Some(&self.b),
+            ..self.operator(&self.x)
         };
         for_each_chunk(&self.shape, &mut r, pool, &residual);
         self.r = r;
@@ -546,10 +587,12 @@ impl Level {
         } = self;
         x.fill(0.0);
         let parity = (colour + 1) % 2;
-        for p in (shape.start..shape.end).step_by(LANES) {
-            let (b, inverse) = (window(b, p), window(inverse, p));
+        let (from, n) = (shape.start, shape.end - shape.start);
+        let (b, inverse) = (chunks(b, from, n), chunks(inverse, from, n));
+        let x = x[from..from + n].as_chunks_mut::<LANES>().0;
+        for ((x, b), inverse) in x.iter_mut().zip(b).zip(inverse) {
             for l in (parity..LANES).step_by(2) {
-                x[p + l] = (b[l] + 0.0) * inverse[l];
+                x[l] = (b[l] + 0.0) * inverse[l];
             }
         }
     }
@@ -666,10 +709,11 @@ impl PressureSolver {
                 *b = 0.0;
             }
         }
-        fine.apply(&self.x, &mut self.ap, pool);
-        for ((r, b), ap) in self.r.iter_mut().zip(&self.b).zip(&self.ap) {
-            *r = b - ap;
-        }
+        let residual = Apply {
+            b: Some(&self.b),
+            ..fine.operator(&self.x)
+        };
+        for_each_chunk(&shape, &mut self.r, pool, &residual);
         if self.singular {
             remove_mean(&mut self.r, &fine.diag);
         }
@@ -677,8 +721,9 @@ impl PressureSolver {
         let mut iterations = 0;
         if residual > tolerance {
             self.precondition(pool);
-            self.p.copy_from_slice(&self.z);
             let mut rz = dot(&self.r, &self.z);
+            // p = z (z is written afresh by the next preconditioning).
+            core::mem::swap(&mut self.p, &mut self.z);
             while iterations < max_iterations {
                 iterations += 1;
                 self.levels[0].apply(&self.p, &mut self.ap, pool);
@@ -687,13 +732,7 @@ impl PressureSolver {
                     break;
                 }
                 let alpha = (rz / pap) as f32;
-                for (x, p) in self.x.iter_mut().zip(&self.p) {
-                    *x += alpha * p;
-                }
-                for (r, ap) in self.r.iter_mut().zip(&self.ap) {
-                    *r -= alpha * ap;
-                }
-                residual = max_abs(&self.r);
+                residual = step_along(alpha, [&mut self.x, &mut self.r], [&self.p, &self.ap]);
                 if residual <= tolerance {
                     break;
                 }
@@ -715,9 +754,12 @@ impl PressureSolver {
 
     /// `z = M⁻¹ r`: one V-cycle from zero.
     fn precondition(&mut self, pool: Option<&TaskPool>) {
-        self.levels[0].b.copy_from_slice(&self.r);
+        // The finest level's right-hand side is `r` and its solution `z`: swapped in and out
+        // (the V-cycle only reads its `b`, and starts its `x` from zero), not copied.
+        core::mem::swap(&mut self.levels[0].b, &mut self.r);
         v_cycle(&mut self.levels, pool);
-        self.z.copy_from_slice(&self.levels[0].x);
+        core::mem::swap(&mut self.levels[0].b, &mut self.r);
+        core::mem::swap(&mut self.levels[0].x, &mut self.z);
         if self.singular {
             remove_mean(&mut self.z, &self.levels[0].diag);
         }
@@ -799,6 +841,17 @@ fn prolong_add(coarse: &Level, fine: &mut Level) {
     });
 }
 
+/// CG's step: `x += α p`, `r −= α A p`, in one pass; returns the largest `|r|` after.
+fn step_along(alpha: f32, [x, r]: [&mut [f32]; 2], [p, ap]: [&[f32]; 2]) -> f32 {
+    let n = x.len();
+    let (x, r, p, ap) = (&mut x[..n], &mut r[..n], &p[..n], &ap[..n]);
+    for i in 0..n {
+        x[i] += alpha * p[i];
+        r[i] -= alpha * ap[i];
+    }
+    max_abs(r)
+}
+
 /// `Σ a b` in f64, summed in `LANES` running sums (a fixed order, so the same result
 /// whatever the machine; the loop vectorises).
 fn dot(a: &[f32], b: &[f32]) -> f64 {
@@ -814,20 +867,6 @@ fn dot(a: &[f32], b: &[f32]) -> f64 {
         sums[l] += f64::from(*a) * f64::from(*b);
     }
     sums.iter().sum()
-}
-
-fn max_abs(a: &[f32]) -> f32 {
-    let mut largest = [0.0f32; LANES];
-    let chunks = a.chunks_exact(LANES);
-    for (l, v) in chunks.remainder().iter().enumerate() {
-        largest[l] = largest[l].max(v.abs());
-    }
-    for chunk in chunks {
-        for l in 0..LANES {
-            largest[l] = largest[l].max(chunk[l].abs());
-        }
-    }
-    largest.iter().fold(0.0f32, |m, v| m.max(*v))
 }
 
 /// Subtracts the mean over the air cells (`n > 0`) from those cells (a sealed box's pressure
