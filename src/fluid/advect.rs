@@ -221,9 +221,18 @@ impl Advection<'_> {
         let wind = self.wind * scale;
         let kept = self.decay.velocity;
         let pool = self.pool(pool);
+        let [nx, ny, _] = shape.dims;
+        // Whether a row `(j, k)` of faces normal to `axis` has a cell on both sides of each
+        // face (along x, all but the first and last face do).
+        let interior = |axis: usize, [j, k]: [usize; 2], dims: [usize; 3]| match axis {
+            0 => true,
+            1 => j > 0 && j + 1 < dims[1],
+            _ => k > 0 && k + 1 < dims[2],
+        };
         for (axis, out) in to.iter_mut().enumerate() {
             let dims = shape.face_dims(axis);
             let layer = dims[0] * dims[1];
+            let stride = [1, nx, nx * ny][axis];
             let inside = Inside::new(shape, self.walls, Stagger::face(axis));
             let source = &from[axis];
             let parts = out.chunks_mut(layer * LAYERS_PER_PART).enumerate();
@@ -236,8 +245,16 @@ impl Advection<'_> {
                     for (out, u) in out_row.iter_mut().zip(source_row) {
                         *out = u * kept;
                     }
+                    // Faces with a cell on both sides take their mean directly; those on the
+                    // box's sides through `face_mean`.
+                    let (cells_row, both) = (nx * (j + ny * k), interior(axis, [j, k], dims));
                     for i in self.active.face_row(shape, axis, j, k) {
-                        let u = face_mean(shape.face_cells(axis, [i, j, k]), cell_velocity);
+                        let u = if both && (axis != 0 || (i > 0 && i < nx)) {
+                            let above = cells_row + i;
+                            (cell_velocity(above - stride) + cell_velocity(above)) * 0.5
+                        } else {
+                            face_mean(shape.face_cells(axis, [i, j, k]), cell_velocity)
+                        };
                         let here = Vec3::new(i as f32, j as f32, k as f32);
                         let departure = here - (u * scale + wind);
                         out_row[i] = if inside.contains(departure) {

@@ -163,7 +163,8 @@ fn axis_cell(x: f32, n: usize) -> (usize, f32) {
     let top = (n - 1) as f32;
     // `max` first: NaN becomes 0.
     let x = x.max(0.0).min(top);
-    let i = (x as usize).min(n.saturating_sub(2));
+    // `x` is in `0..=top` here, so the 32-bit conversion (one instruction) is exact.
+    let i = (x as i32 as usize).min(n.saturating_sub(2));
     (i, (x - i as f32).min(1.0))
 }
 
