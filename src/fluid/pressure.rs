@@ -443,8 +443,11 @@ struct Level {
 /// Cells per parallel part of a level's loops (a whole number of chunks).
 const CELLS_PER_PART: usize = 4096;
 /// Levels with fewer cells than this run on the calling thread: below it a loop is too
-/// short to pay for handing work to the pool.
-const PARALLEL_CELLS: usize = 50_000;
+/// short to pay for handing work to the pool. On the 2-core machine (`stress -- --plume-only`,
+/// builds alternated) the split was slower at 40³ (3.7–4.9 against 3.1–3.8 ms a step) and
+/// 48³ (7.0–7.9 against 5.9–6.6) and even at 64³ (about 16 ms either way): each half-sweep
+/// is a few tens of microseconds, and waking the pool's threads costs as much.
+const PARALLEL_CELLS: usize = 200_000;
 
 /// The pool a loop over a level of `cells` cells runs on: none below [`PARALLEL_CELLS`] or
 /// without feature `parallel`.
@@ -683,7 +686,7 @@ impl PressureSolver {
         self.solve_on(b, tolerance, max_iterations, None)
     }
 
-    /// [`PressureSolver::solve`], the loops of levels of 50 000 cells or more split over
+    /// [`PressureSolver::solve`], the loops of levels of 200 000 cells or more split over
     /// `pool`'s threads (the result is the same on any number of threads).
     pub fn solve_on(
         &mut self,
@@ -1086,7 +1089,7 @@ mod tests {
     /// same bits on a pool as on one thread.
     #[test]
     fn a_level_split_over_threads_gives_the_serial_result() {
-        let dims = [41, 37, 35];
+        let dims = [61, 59, 57];
         assert!(dims.iter().product::<usize>() >= PARALLEL_CELLS);
         let pool = TaskPool::new();
         let (serial, _) = level_with_a_block(dims);
