@@ -157,7 +157,7 @@ fn confinement(gradient: Vec3, omega: Vec3, weight: f32, strength: f32) -> Vec3 
 ///
 /// The temperature is zero outside `active` (the spans it was advected in, grown by at least
 /// one cell past any air that was busy), so the force is zero there and the curl is needed
-/// only inside: every pass runs over the spans alone, a row at a time ([`split_row`]).
+/// only inside: every pass runs over the spans alone, a row at a time.
 pub fn add_vorticity_confinement(
     shape: &GridShape,
     active: &ActiveSpans,
@@ -202,14 +202,16 @@ pub fn add_vorticity_confinement(
             let (o0, o1, o2) = (&mut o0[a..a + n], &mut o1[a..a + n], &mut o2[a..a + n]);
             let magnitude = &mut magnitude[a..a + n];
             let d = |(below, above): (&[f32], &[f32]), i: usize| (above[i] - below[i]) / span;
+            // Written out in `f32` (the operations of `Vec3::length`, in its order) so the
+            // loop vectorises.
             for i in 0..n {
-                let curl = Vec3::new(
+                let (x, y, z) = (
                     d(wy, i) - d(vz, i),
                     d(uz, i) - d(wx, i),
                     d(vx, i) - d(uy, i),
                 );
-                (o0[i], o1[i], o2[i]) = (curl.x, curl.y, curl.z);
-                magnitude[i] = curl.length();
+                (o0[i], o1[i], o2[i]) = (x, y, z);
+                magnitude[i] = (x * x + y * y + z * z).sqrt();
             }
         }
     }
@@ -238,12 +240,19 @@ pub fn add_vorticity_confinement(
             let t = &temperature[a..a + n];
             let [f0, f1, f2] = force;
             let (f0, f1, f2) = (&mut f0[a..a + n], &mut f1[a..a + n], &mut f2[a..a + n]);
+            // [`confinement`] written out in `f32` (its operations in its order) so the loop
+            // vectorises.
             for i in 0..n {
-                let gradient = Vec3::new(d(mx, i), d(my, i), d(mz, i));
-                let curl = Vec3::new(o0[i], o1[i], o2[i]);
+                let (gx, gy, gz) = (d(mx, i), d(my, i), d(mz, i));
+                let length = (gx * gx + gy * gy + gz * gz).sqrt();
                 let weight = (t[i].abs() / CONFINEMENT_FULL_AT).min(1.0);
-                let f = confinement(gradient, curl, weight, strength);
-                (f0[i], f1[i], f2[i]) = (f.x, f.y, f.z);
+                let (n0, n1, n2) = (gx / length, gy / length, gz / length);
+                let scale = strength * weight;
+                let keep = weight != 0.0 && length > 1e-6;
+                let pick = |f: f32| if keep { f } else { 0.0 };
+                f0[i] = pick(scale * (n1 * o2[i] - o1[i] * n2));
+                f1[i] = pick(scale * (n2 * o0[i] - o2[i] * n0));
+                f2[i] = pick(scale * (n0 * o1[i] - o0[i] * n1));
             }
         }
     }

@@ -11,7 +11,7 @@
 //! The V-cycle is symmetric (red-black Gauss-Seidel before, black-red after, restriction
 //! proportional to the transpose of the piecewise-constant prolongation), so CG stays CG.
 //!
-//! Each level lives in a padded layout ([`Padded`]): a layer of ghost cells round the box, so
+//! Each level lives in a padded layout (`Padded`): a layer of ghost cells round the box, so
 //! every cell's six neighbours are in memory and the sweeps, residuals and products are one
 //! loop over the level, eight cells at a time (compiled for AVX where the CPU has it, with the
 //! same result to the bit), with no test per cell: ghost and solid cells hold zero, so summing
