@@ -17,18 +17,10 @@ use glam::Vec3;
 /// cells at a time, in loops over slices that the compiler turns into SIMD.
 pub fn centre_velocity(shape: &GridShape, velocity: &[Vec<f32>; 3], centre: &mut [Vec<f32>; 3]) {
     let [nx, ny, nz] = shape.dims;
-    let [u, v, w] = velocity;
-    let layer = nx * ny;
     for k in 0..nz {
         for j in 0..ny {
             let c = nx * (j + ny * k);
-            let fu = (nx + 1) * (j + ny * k);
-            let fv = nx * (j + (ny + 1) * k);
-            let rows = [
-                (&u[fu..fu + nx], &u[fu + 1..fu + 1 + nx]),
-                (&v[fv..fv + nx], &v[fv + nx..fv + 2 * nx]),
-                (&w[c..c + nx], &w[c + layer..c + layer + nx]),
-            ];
+            let rows = shape.face_rows(velocity, j, k);
             for ((low, high), out) in rows.into_iter().zip(centre.iter_mut()) {
                 let out = &mut out[c..c + nx];
                 for i in 0..nx {

@@ -74,6 +74,28 @@ impl GridShape {
         (below, above)
     }
 
+    /// The faces of row `(j, k)` of cells, per axis `(low, high)`: the `nx` faces on each
+    /// cell's low side and the `nx` on its high side (along x the row's faces `0..nx` and
+    /// `1..=nx`; along y the face rows below and above; along z the face layers).
+    #[inline]
+    pub fn face_rows<'a>(
+        &self,
+        velocity: &'a [Vec<f32>; 3],
+        j: usize,
+        k: usize,
+    ) -> [(&'a [f32], &'a [f32]); 3] {
+        let [nx, ny, _] = self.dims;
+        let [u, v, w] = velocity;
+        let (c, layer) = (nx * (j + ny * k), nx * ny);
+        let fu = (nx + 1) * (j + ny * k);
+        let fv = nx * (j + (ny + 1) * k);
+        [
+            (&u[fu..fu + nx], &u[fu + 1..fu + 1 + nx]),
+            (&v[fv..fv + nx], &v[fv + nx..fv + 2 * nx]),
+            (&w[c..c + nx], &w[c + layer..c + layer + nx]),
+        ]
+    }
+
     /// World size of the box, m.
     pub fn size(&self) -> Vec3 {
         Vec3::new(

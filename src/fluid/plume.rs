@@ -444,7 +444,7 @@ impl Plume {
             return;
         }
         let reach = travel.ceil() as usize + 1;
-        let [u, v, w] = &self.velocity;
+        let velocity = &self.velocity;
         let (temperature, smoke, flags) = (&self.temperature, &self.smoke, &mut self.busy);
         let [nx, ny, _] = shape.dims;
         self.active.update_rows(&shape, reach, |j, k| {
@@ -452,11 +452,7 @@ impl Plume {
             // is busy when hot, smoky, or one of its six faces is fast.
             let c = nx * (j + ny * k);
             let (t, s) = (&temperature[c..c + nx], &smoke[c..c + nx]);
-            let fu = (nx + 1) * (j + ny * k);
-            let (west, east) = (&u[fu..fu + nx], &u[fu + 1..fu + 1 + nx]);
-            let fv = nx * (j + (ny + 1) * k);
-            let (south, north) = (&v[fv..fv + nx], &v[fv + nx..fv + 2 * nx]);
-            let (below, above) = (&w[c..c + nx], &w[c + nx * ny..c + nx * ny + nx]);
+            let [(west, east), (south, north), (below, above)] = shape.face_rows(velocity, j, k);
             let fast = |a: f32| a.abs() > BUSY_SPEED;
             let flags = &mut flags[..nx];
             for i in 0..nx {
@@ -597,16 +593,10 @@ fn largest_over_air(values: &[f32], solid: &[bool]) -> f32 {
 /// at a time, in loops over slices that the compiler turns into SIMD.
 fn divergence(shape: &GridShape, velocity: &[Vec<f32>; 3], out: &mut [f32]) {
     let [nx, ny, nz] = shape.dims;
-    let [u, v, w] = velocity;
-    let layer = nx * ny;
     for k in 0..nz {
         for j in 0..ny {
             let c = nx * (j + ny * k);
-            let fu = (nx + 1) * (j + ny * k);
-            let (west, east) = (&u[fu..fu + nx], &u[fu + 1..fu + 1 + nx]);
-            let fv = nx * (j + (ny + 1) * k);
-            let (south, north) = (&v[fv..fv + nx], &v[fv + nx..fv + 2 * nx]);
-            let (below, above) = (&w[c..c + nx], &w[c + layer..c + layer + nx]);
+            let [(west, east), (south, north), (below, above)] = shape.face_rows(velocity, j, k);
             let out = &mut out[c..c + nx];
             for i in 0..nx {
                 out[i] =

@@ -363,11 +363,7 @@ fn relax_in_place(shape: &Padded, inverse: &[f32], b: &[f32], x: &mut [f32], mas
 mod wide {
     use super::{LANES, Padded, Stencil, relax_in_place};
 
-    /// Whether this CPU runs AVX instructions (the standard library caches the answer).
-    #[inline]
-    pub(super) fn available() -> bool {
-        std::arch::is_x86_feature_detected!("avx")
-    }
+    pub(super) use crate::sim::simd::avx_available as available;
 
     /// [`Stencil::write`] for AVX. Only called when [`available`].
     pub(super) fn write<S: Stencil>(stencil: &S, from: usize, out: &mut [f32]) {
@@ -474,44 +470,56 @@ fn for_each_chunk<S: Stencil>(
     });
 }
 
+/// Where air flows from cell `c` (natural order, an air cell of a level of `dims` whose air
+/// cells are `air`): `n_c`, the faces it flows through (open walls and air neighbours), and
+/// its air neighbours in the order −x, +x, −y, +y, −z, +z (`None` beyond the box or solid).
+fn air_faces(dims: [usize; 3], air: &[bool], walls: &Walls, c: usize) -> (f32, [Option<usize>; 6]) {
+    let stride = [1, dims[0], dims[0] * dims[1]];
+    let at = [
+        c % dims[0],
+        (c / dims[0]) % dims[1],
+        c / (dims[0] * dims[1]),
+    ];
+    let mut faces = 0.0;
+    let mut neighbours = [None; 6];
+    for axis in 0..3 {
+        for side in 0..2 {
+            let inside = if side == 0 {
+                at[axis] > 0
+            } else {
+                at[axis] + 1 < dims[axis]
+            };
+            if !inside {
+                if walls.0[axis][side] == Wall::Open {
+                    faces += 1.0;
+                }
+                continue;
+            }
+            let neighbour = if side == 0 {
+                c - stride[axis]
+            } else {
+                c + stride[axis]
+            };
+            if air[neighbour] {
+                faces += 1.0;
+                neighbours[2 * axis + side] = Some(neighbour);
+            }
+        }
+    }
+    (faces, neighbours)
+}
+
 impl Level {
     fn new(dims: [usize; 3], air: Vec<bool>, walls: &Walls) -> Self {
         let shape = Padded::new(dims);
-        let stride = [1, dims[0], dims[0] * dims[1]];
         let mut diag = shape.field(0.0);
         for k in 0..dims[2] {
             for j in 0..dims[1] {
                 for i in 0..dims[0] {
                     let c = i + dims[0] * (j + dims[1] * k);
-                    if !air[c] {
-                        continue;
+                    if air[c] {
+                        diag[shape.index([i, j, k])] = air_faces(dims, &air, walls, c).0;
                     }
-                    let at = [i, j, k];
-                    let mut faces = 0.0;
-                    for axis in 0..3 {
-                        for side in 0..2 {
-                            let inside = if side == 0 {
-                                at[axis] > 0
-                            } else {
-                                at[axis] + 1 < dims[axis]
-                            };
-                            if !inside {
-                                if walls.0[axis][side] == Wall::Open {
-                                    faces += 1.0;
-                                }
-                                continue;
-                            }
-                            let neighbour = if side == 0 {
-                                c - stride[axis]
-                            } else {
-                                c + stride[axis]
-                            };
-                            if air[neighbour] {
-                                faces += 1.0;
-                            }
-                        }
-                    }
-                    diag[shape.index(at)] = faces;
                 }
             }
         }
@@ -945,40 +953,10 @@ mod tests {
     /// The textbook stencil, cell by cell in natural order: `(n_c, Σ x_j)` over the air
     /// neighbours of air cell `c`, `n_c` counting open walls too.
     fn stencil(dims: [usize; 3], air: &[bool], walls: &Walls, x: &[f32], c: usize) -> (f32, f32) {
-        let stride = [1, dims[0], dims[0] * dims[1]];
-        let at = [
-            c % dims[0],
-            (c / dims[0]) % dims[1],
-            c / (dims[0] * dims[1]),
-        ];
-        let (mut n, mut sum) = (0.0f32, 0.0f32);
-        let mut terms = [0.0f32; 6];
-        for axis in 0..3 {
-            for side in 0..2 {
-                let inside = if side == 0 {
-                    at[axis] > 0
-                } else {
-                    at[axis] + 1 < dims[axis]
-                };
-                if !inside {
-                    if walls.0[axis][side] == Wall::Open {
-                        n += 1.0;
-                    }
-                    continue;
-                }
-                let neighbour = if side == 0 {
-                    c - stride[axis]
-                } else {
-                    c + stride[axis]
-                };
-                if air[neighbour] {
-                    n += 1.0;
-                    terms[2 * axis + side] = x[neighbour];
-                }
-            }
-        }
-        for term in terms {
-            sum += term;
+        let (n, neighbours) = air_faces(dims, air, walls, c);
+        let mut sum = 0.0f32;
+        for neighbour in neighbours {
+            sum += neighbour.map_or(0.0, |j| x[j]);
         }
         (n, sum)
     }

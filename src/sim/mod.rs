@@ -69,6 +69,7 @@ pub mod parallel;
 pub mod particles;
 pub mod provot;
 pub mod settings;
+pub(crate) mod simd;
 pub mod spatial_hash;
 pub mod springs;
 pub mod step;

@@ -320,11 +320,7 @@ fn shared_lane<const N: usize>(
 mod wide {
     use super::{RunData, shared_lane, split_lane};
 
-    /// Whether this CPU runs AVX instructions (the standard library caches the answer).
-    #[inline]
-    pub(super) fn available() -> bool {
-        std::arch::is_x86_feature_detected!("avx")
-    }
+    pub(super) use crate::sim::simd::avx_available as available;
 
     /// [`super::project_split`] eight elements at a time. Only called when [`available`].
     pub(super) fn project_split(
