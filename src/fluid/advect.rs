@@ -214,13 +214,6 @@ impl Advection<'_> {
         let kept = self.decay.velocity;
         let pool = self.pool(pool);
         let [nx, ny, _] = shape.dims;
-        // Whether a row `(j, k)` of faces normal to `axis` has a cell on both sides of each
-        // face (along x, all but the first and last face do).
-        let interior = |axis: usize, [j, k]: [usize; 2], dims: [usize; 3]| match axis {
-            0 => true,
-            1 => j > 0 && j + 1 < dims[1],
-            _ => k > 0 && k + 1 < dims[2],
-        };
         for (axis, out) in to.iter_mut().enumerate() {
             let dims = shape.face_dims(axis);
             let layer = dims[0] * dims[1];
@@ -239,9 +232,11 @@ impl Advection<'_> {
                     }
                     // Faces with a cell on both sides take their mean directly; those on the
                     // box's sides through `face_mean`.
-                    let (cells_row, both) = (nx * (j + ny * k), interior(axis, [j, k], dims));
-                    for i in self.active.face_row(shape, axis, j, k) {
-                        let u = if both && (axis != 0 || (i > 0 && i < nx)) {
+                    let row = self.active.face_row(shape, axis, j, k);
+                    let both = shape.inner_faces(axis, [j, k], row.clone());
+                    let cells_row = nx * (j + ny * k);
+                    for i in row {
+                        let u = if both.contains(&i) {
                             let above = cells_row + i;
                             (cell_velocity(above - stride) + cell_velocity(above)) * 0.5
                         } else {

@@ -73,7 +73,8 @@ pub const CONFINEMENT_FULL_AT: f32 = 20.0;
 /// The cells of row `(j, k)` in `span` split into those at the box's sides (the first and
 /// the last) and those between, whose six neighbours are all inside the box: there a
 /// derivative is the central difference `(f[c + s] − f[c − s]) / 2h`, the same to the bit as
-/// [`derivative`], computed a row at a time in loops over slices that vectorise.
+/// [`derivative`], computed a row at a time over slices of one length (no index arithmetic
+/// or bounds test per cell).
 fn split_row(
     shape: &GridShape,
     j: usize,
@@ -140,10 +141,8 @@ fn force_at(
 #[inline(always)]
 fn confinement(gradient: Vec3, omega: Vec3, weight: f32, strength: f32) -> Vec3 {
     let length = gradient.length();
-    // Computed either way and chosen after, so the loop has no branch and vectorises.
-    let force = strength * weight * (gradient / length).cross(omega);
     if weight != 0.0 && length > 1e-6 {
-        force
+        strength * weight * (gradient / length).cross(omega)
     } else {
         Vec3::ZERO
     }
@@ -202,16 +201,14 @@ pub fn add_vorticity_confinement(
             let (o0, o1, o2) = (&mut o0[a..a + n], &mut o1[a..a + n], &mut o2[a..a + n]);
             let magnitude = &mut magnitude[a..a + n];
             let d = |(below, above): (&[f32], &[f32]), i: usize| (above[i] - below[i]) / span;
-            // Written out in `f32` (the operations of `Vec3::length`, in its order) so the
-            // loop vectorises.
             for i in 0..n {
-                let (x, y, z) = (
+                let curl = Vec3::new(
                     d(wy, i) - d(vz, i),
                     d(uz, i) - d(wx, i),
                     d(vx, i) - d(uy, i),
                 );
-                (o0[i], o1[i], o2[i]) = (x, y, z);
-                magnitude[i] = (x * x + y * y + z * z).sqrt();
+                (o0[i], o1[i], o2[i]) = (curl.x, curl.y, curl.z);
+                magnitude[i] = curl.length();
             }
         }
     }
@@ -240,19 +237,12 @@ pub fn add_vorticity_confinement(
             let t = &temperature[a..a + n];
             let [f0, f1, f2] = force;
             let (f0, f1, f2) = (&mut f0[a..a + n], &mut f1[a..a + n], &mut f2[a..a + n]);
-            // [`confinement`] written out in `f32` (its operations in its order) so the loop
-            // vectorises.
             for i in 0..n {
-                let (gx, gy, gz) = (d(mx, i), d(my, i), d(mz, i));
-                let length = (gx * gx + gy * gy + gz * gz).sqrt();
+                let gradient = Vec3::new(d(mx, i), d(my, i), d(mz, i));
+                let curl = Vec3::new(o0[i], o1[i], o2[i]);
                 let weight = (t[i].abs() / CONFINEMENT_FULL_AT).min(1.0);
-                let (n0, n1, n2) = (gx / length, gy / length, gz / length);
-                let scale = strength * weight;
-                let keep = weight != 0.0 && length > 1e-6;
-                let pick = |f: f32| if keep { f } else { 0.0 };
-                f0[i] = pick(scale * (n1 * o2[i] - o1[i] * n2));
-                f1[i] = pick(scale * (n2 * o0[i] - o2[i] * n0));
-                f2[i] = pick(scale * (n0 * o1[i] - o0[i] * n1));
+                let f = confinement(gradient, curl, weight, strength);
+                (f0[i], f1[i], f2[i]) = (f.x, f.y, f.z);
             }
         }
     }
@@ -280,13 +270,7 @@ fn add_face_means(
         for j in 0..dims[1] {
             let row = active.face_row(shape, axis, j, k);
             let first = dims[0] * (j + dims[1] * k);
-            // Faces with cells on both sides: along x those past the row's first cell and
-            // before its last; along y or z every face of a row inside the box.
-            let both = match axis {
-                0 => row.start.max(1)..row.end.min(nx).max(row.start.max(1)),
-                _ if [j, k][axis - 1] == 0 || [j, k][axis - 1] == dims[axis] - 1 => 0..0,
-                _ => row.clone(),
-            };
+            let both = shape.inner_faces(axis, [j, k], row.clone());
             for i in row.clone().filter(|i| !both.contains(i)) {
                 let cells = shape.face_cells(axis, [i, j, k]);
                 faces[first + i] += scale * face_mean(cells, |c| values[c]);

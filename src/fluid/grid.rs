@@ -96,6 +96,28 @@ impl GridShape {
         ]
     }
 
+    /// Of the faces `row` (a range of `i`) in row `(j, k)` of the faces normal to `axis`,
+    /// those with a cell on both sides: along x all but the first and last face of the box;
+    /// along y or z every face of a row that is not on the box's side, none of one that is.
+    #[inline]
+    pub fn inner_faces(
+        &self,
+        axis: usize,
+        [j, k]: [usize; 2],
+        row: core::ops::Range<usize>,
+    ) -> core::ops::Range<usize> {
+        let [nx, ny, nz] = self.dims;
+        match axis {
+            0 => {
+                let start = row.start.max(1);
+                start..row.end.min(nx).max(start)
+            }
+            1 if j == 0 || j == ny => 0..0,
+            2 if k == 0 || k == nz => 0..0,
+            _ => row,
+        }
+    }
+
     /// World size of the box, m.
     pub fn size(&self) -> Vec3 {
         Vec3::new(

@@ -852,7 +852,7 @@ fn prolong_add(coarse: &Level, fine: &mut Level) {
     });
 }
 
-/// CG's step: `x += α p`, `r −= α A p`, in one pass; returns the largest `|r|` after.
+/// CG's step: `x += α p` and `r −= α A p` in one pass; returns the largest `|r|` after.
 fn step_along(alpha: f32, [x, r]: [&mut [f32]; 2], [p, ap]: [&[f32]; 2]) -> f32 {
     let n = x.len();
     let (x, r, p, ap) = (&mut x[..n], &mut r[..n], &p[..n], &ap[..n]);
