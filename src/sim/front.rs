@@ -20,6 +20,26 @@ use super::topology::Topology;
 
 const NONE: u32 = u32::MAX;
 
+/// The fraction of its initial length a spring's rest length must drop below before the
+/// stretch limit holds it: a spring warmed by a trace of heat (conduction, or a plume's air
+/// reaching the whole cloth) has barely shrunk, and the constraints hold it as they hold a
+/// cold one. Without this the limit ran over every spring of a cloth in a plume, each substep.
+pub const LIMITED_BELOW: f32 = 0.99;
+
+/// Removes `item` from `list` (by swapping in the last item) if `place` says it is there;
+/// `place` holds each item's place in `list`, `NONE` when absent.
+fn remove_from(list: &mut Vec<u32>, place: &mut [u32], item: usize) {
+    let at = place[item];
+    if at == NONE {
+        return;
+    }
+    list.swap_remove(at as usize);
+    if let Some(&moved) = list.get(at as usize) {
+        place[moved as usize] = at;
+    }
+    place[item] = NONE;
+}
+
 /// Compressed rows: `start[i]..start[i + 1]` indexes `items` for row `i`.
 #[derive(Clone, Debug, Default)]
 struct Rows {
@@ -84,9 +104,15 @@ pub struct Front {
     /// Whether each burnt particle has been dealt with (springs cut, triangles removed).
     gone: Vec<bool>,
     /// The heated springs (an end has been warm; live): those shrinking and those shrunk to
-    /// their floor. Each spring's place in that list.
+    /// their floor, by index, then those added since the last [`Front::shrink`]; whether each
+    /// spring is in that list; and scratch for merging the added ones in.
     shrinking: Vec<u32>,
-    shrinking_at: Vec<u32>,
+    is_shrinking: Vec<bool>,
+    sorted_len: usize,
+    merged: Vec<u32>,
+    /// The shrinking springs whose rest length is below [`LIMITED_BELOW`] of its initial
+    /// length (those the XPBD solver's stretch limit holds), by index, as of the last shrink.
+    shrunk: Vec<u32>,
     /// The triangle in each place of the drawn list, and each triangle's place.
     live_triangle: Vec<u32>,
     live_at: Vec<u32>,
@@ -110,7 +136,8 @@ impl Front {
             &self.ignited,
             &self.ignited_at,
             &self.shrinking,
-            &self.shrinking_at,
+            &self.merged,
+            &self.shrunk,
             &self.live_triangle,
             &self.live_at,
             &self.pins,
@@ -120,6 +147,7 @@ impl Front {
         .sum::<usize>();
         words * size_of::<u32>()
             + self.warm.capacity()
+            + self.is_shrinking.capacity()
             + self.gone.capacity()
             + self.springs_of.heap_bytes()
             + self.triangles_of.heap_bytes()
@@ -144,6 +172,13 @@ impl Front {
     /// to their floor.
     pub fn shrinking(&self) -> &[u32] {
         &self.shrinking
+    }
+
+    /// The shrunk springs: live springs on the [`Front::shrinking`] list whose rest length is
+    /// below [`LIMITED_BELOW`] of its initial length, by index, as of the last
+    /// [`Front::shrink`].
+    pub fn shrunk(&self) -> &[u32] {
+        &self.shrunk
     }
 
     /// Whether any particle has ever been warmer than the initial temperature.
@@ -187,8 +222,13 @@ impl Front {
         self.gone.resize(n, false);
         self.shrinking.clear();
         self.shrinking.reserve(springs.len());
-        self.shrinking_at.clear();
-        self.shrinking_at.resize(springs.len(), NONE);
+        self.is_shrinking.clear();
+        self.is_shrinking.resize(springs.len(), false);
+        self.sorted_len = 0;
+        self.merged.clear();
+        self.merged.reserve(springs.len());
+        self.shrunk.clear();
+        self.shrunk.reserve(springs.len());
         self.pins.clear();
         self.pins.reserve(n);
         // The drawn list from the triangles whose corners have not burnt.
@@ -286,12 +326,7 @@ impl Front {
     }
 
     fn remove_ignited(&mut self, i: usize) {
-        let place = self.ignited_at[i] as usize;
-        self.ignited.swap_remove(place);
-        if let Some(&moved) = self.ignited.get(place) {
-            self.ignited_at[moved as usize] = place as u32;
-        }
-        self.ignited_at[i] = NONE;
+        remove_from(&mut self.ignited, &mut self.ignited_at, i);
     }
 
     /// Puts particle `i`'s springs (those it ends; not those it only spans) on the shrinking
@@ -300,20 +335,38 @@ impl Front {
         for &s in self.springs_of.of(i) {
             let spring = s as usize;
             let ends = springs.a[spring] as usize == i || springs.b[spring] as usize == i;
-            if ends && self.shrinking_at[spring] == NONE {
-                self.shrinking_at[spring] = self.shrinking.len() as u32;
+            if ends && !self.is_shrinking[spring] {
+                self.is_shrinking[spring] = true;
                 self.shrinking.push(s);
             }
         }
     }
 
-    fn stop_shrinking(&mut self, place: usize) {
-        let spring = self.shrinking[place] as usize;
-        self.shrinking.swap_remove(place);
-        if let Some(&moved) = self.shrinking.get(place) {
-            self.shrinking_at[moved as usize] = place as u32;
+    /// Sorts the springs added to the shrinking list since the last shrink into the rest, so
+    /// the list is in index order (a pass over it reads the spring arrays in order, not in
+    /// the order the particles warmed: under a plume, that is scattered over the whole
+    /// cloth). Costs a sort of the added springs and one merge, only when some were added.
+    fn merge_added(&mut self) {
+        let sorted = self.sorted_len;
+        if sorted == self.shrinking.len() {
+            return;
         }
-        self.shrinking_at[spring] = NONE;
+        let (old, added) = self.shrinking.split_at_mut(sorted);
+        added.sort_unstable();
+        self.merged.clear();
+        let (mut i, mut j) = (0, 0);
+        while i < old.len() && j < added.len() {
+            if old[i] <= added[j] {
+                self.merged.push(old[i]);
+                i += 1;
+            } else {
+                self.merged.push(added[j]);
+                j += 1;
+            }
+        }
+        self.merged.extend_from_slice(&old[i..]);
+        self.merged.extend_from_slice(&added[j..]);
+        core::mem::swap(&mut self.shrinking, &mut self.merged);
     }
 
     /// Cuts the live springs that pass over the particles in `newly_burnt` (a bending or shear
@@ -342,7 +395,9 @@ impl Front {
     ///
     /// with `ΔT = max(T − T_initial, 0)` (measured from the initial temperature so cold cloth
     /// keeps its size). A spring of zero stiffness does not shrink; a spring that dies leaves
-    /// the list (one at its floor stays: its stretch is still limited).
+    /// the list (one at its floor stays: its stretch is still limited). The springs whose rest
+    /// length is then below [`LIMITED_BELOW`] of their initial one are the
+    /// [`Front::shrunk`] list.
     pub fn shrink(
         &mut self,
         springs: &mut Springs,
@@ -353,25 +408,44 @@ impl Front {
     ) {
         let rate = material.shrink_factor * h;
         let (floor, t0) = (material.min_rest_fraction, material.initial_temperature);
-        let mut place = 0;
-        while place < self.shrinking.len() {
-            let s = self.shrinking[place] as usize;
-            if !springs.is_live(s, &particles.state) {
-                self.stop_shrinking(place);
+        // Per kind, the shrink per metre of initial length per kelvin of heat this step (none
+        // for a spring of zero stiffness, or for no rate).
+        let per_kelvin = coefficients
+            .stiffness
+            .map(|k| if rate > 0.0 && k > 0.0 { rate / k } else { 0.0 });
+        self.merge_added();
+        // The spring arrays sliced to one length, so indexing by a listed spring checks once.
+        let n = springs.len();
+        let (a, b, kind) = (&springs.a[..n], &springs.b[..n], &springs.kind[..n]);
+        let (initial, rest) = (
+            &springs.initial_rest_length[..n],
+            &mut springs.rest_length[..n],
+        );
+        let (state, temperature) = (&particles.state, &particles.temperature);
+        let excess = |p: u32| (temperature[p as usize] - t0).max(0.0);
+        self.shrunk.clear();
+        let mut kept = 0;
+        for place in 0..self.shrinking.len() {
+            let s = self.shrinking[place];
+            let spring = s as usize;
+            let (pa, pb) = (a[spring], b[spring]);
+            if state[pa as usize].is_burnt() || state[pb as usize].is_burnt() {
+                self.is_shrinking[spring] = false;
                 continue;
             }
-            let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
-            let temperature = &particles.temperature;
-            let heat = (temperature[a] - t0).max(0.0) + (temperature[b] - t0).max(0.0);
-            let k = coefficients.stiffness[springs.kind[s] as usize];
-            let initial = springs.initial_rest_length[s];
-            let lowest = floor * initial;
-            if rate > 0.0 && heat > 0.0 && k > 0.0 {
-                let shrunk = springs.rest_length[s] - rate * initial * heat / k;
-                springs.rest_length[s] = shrunk.max(lowest);
+            let by =
+                initial[spring] * (excess(pa) + excess(pb)) * per_kelvin[kind[spring] as usize];
+            if by > 0.0 {
+                rest[spring] = (rest[spring] - by).max(floor * initial[spring]);
             }
-            place += 1;
+            if rest[spring] < LIMITED_BELOW * initial[spring] {
+                self.shrunk.push(s);
+            }
+            self.shrinking[kept] = s;
+            kept += 1;
         }
+        self.shrinking.truncate(kept);
+        self.sorted_len = kept;
     }
 
     /// Removes the triangles of the particles in `newly_burnt` from the drawn list (each by
@@ -555,6 +629,74 @@ mod tests {
         particles.state[2] = BurnState::Burnt;
         front.shrink(&mut springs, &particles, &material, &coefficients, 0.01);
         assert_eq!(front.shrinking(), &[0], "dead springs leave it");
+    }
+
+    #[test]
+    fn a_spring_joins_the_shrunk_list_when_its_rest_length_drops_below_the_limit_fraction() {
+        let material = BurnMaterial::COTTON;
+        let coefficients = SpringCoefficients::from_material(&material, 1e-4);
+        let (mut particles, mut springs) = row(
+            4,
+            &material,
+            &[
+                (0, 1, SpringKind::Structural),
+                (2, 3, SpringKind::Structural),
+            ],
+        );
+        let mut front = Front::default();
+        scanned(&mut front, &mut particles, &mut springs, &material);
+        // Spring 0 a trace warmer than the cloth, spring 1 on fire.
+        let t0 = material.initial_temperature;
+        particles.temperature = vec![t0 + 0.01, t0 + 0.01, 900.0, 900.0];
+        front.scan(&mut particles, &springs, &material, &mut Vec::new());
+        assert_eq!(front.shrinking().len(), 2, "both are warm");
+        let h = 1.0 / 60.0;
+        let mut joined = None;
+        for frame in 0..600 {
+            let before = springs.rest_length[1];
+            front.shrink(&mut springs, &particles, &material, &coefficients, h);
+            let limit = LIMITED_BELOW * springs.initial_rest_length[1];
+            let is_shrunk = front.shrunk().contains(&1);
+            assert_eq!(is_shrunk, springs.rest_length[1] < limit, "frame {frame}");
+            if is_shrunk && before >= limit {
+                joined = Some(frame);
+            }
+        }
+        assert!(joined.is_some(), "the burning spring shrank past the limit");
+        assert!(
+            springs.rest_length[0] > LIMITED_BELOW * springs.initial_rest_length[0],
+            "a trace of heat barely shrinks a spring"
+        );
+        assert_eq!(front.shrunk(), &[1], "the trace-warm spring is not limited");
+        particles.state[3] = BurnState::Burnt;
+        front.shrink(&mut springs, &particles, &material, &coefficients, h);
+        assert!(front.shrunk().is_empty(), "a dead spring leaves the list");
+        assert_eq!(front.shrinking(), &[0]);
+    }
+
+    #[test]
+    fn the_shrinking_list_is_in_index_order_whatever_order_the_particles_warmed_in() {
+        let material = BurnMaterial::COTTON;
+        let coefficients = SpringCoefficients::from_material(&material, 1e-4);
+        let chain: Vec<_> = (0..5).map(|i| (i, i + 1, SpringKind::Structural)).collect();
+        let (mut particles, mut springs) = row(6, &material, &chain);
+        let mut front = Front::default();
+        scanned(&mut front, &mut particles, &mut springs, &material);
+        let mut heat_and_shrink = |particles: &mut Particles, i: usize, t: f32| {
+            particles.temperature[i] = t;
+            front.scan(particles, &springs, &material, &mut Vec::new());
+            front.shrink(&mut springs, particles, &material, &coefficients, 0.01);
+            front.shrinking().to_vec()
+        };
+        assert_eq!(heat_and_shrink(&mut particles, 4, 300.0), [3, 4]);
+        assert_eq!(heat_and_shrink(&mut particles, 0, 300.0), [0, 3, 4]);
+        assert_eq!(heat_and_shrink(&mut particles, 2, 300.0), [0, 1, 2, 3, 4]);
+        let burnt = material.burnt_temperature + 1.0;
+        assert_eq!(
+            heat_and_shrink(&mut particles, 5, burnt),
+            [0, 1, 2, 3],
+            "the dead one left"
+        );
     }
 
     #[test]

@@ -355,7 +355,7 @@ impl ClothMut<'_> {
                     .tether_stretch
                     .map(|stretch| (&workspace.anchors, stretch)),
                 stretch_limit: solver.provot.map(|provot| StretchLimit {
-                    springs: workspace.front.shrinking(),
+                    springs: workspace.front.shrunk(),
                     stretch: provot.max_stretch,
                     passes: provot.passes.min(XPBD_STRETCH_LIMIT_PASSES),
                 }),

@@ -85,8 +85,9 @@ pub struct Surroundings<'a> {
 
 /// Provot's limit on a list of springs: Gauss–Seidel passes that pull each live in-plane
 /// spring of the list longer than `(1 + stretch) ×` its rest length back to that length (a
-/// hard, one-sided constraint). Given the springs heat has shrunk, it makes the burning cloth
-/// pull in and crumple around the fire, as the shrinking springs would with every spring held
+/// hard, one-sided constraint). Given the springs heat has shrunk
+/// ([`Front::shrunk`](crate::sim::front::Front::shrunk)), it makes the burning cloth pull in
+/// and crumple around the fire, as the shrinking springs would with every spring held
 /// to the limit, instead of stretching: one compliant constraint pass per substep is too soft
 /// to carry the shrinking to the cold cloth around it.
 #[derive(Clone, Copy, Debug)]
