@@ -70,6 +70,41 @@ impl ActiveSpans {
         }
     }
 
+    /// The cells of row `(j, k)` inside the spans or beside a cell that is (along x, y or
+    /// z), as a range of `i`: where a difference taken at an active cell reads.
+    #[inline]
+    pub fn row_with_neighbours(
+        &self,
+        shape: &GridShape,
+        j: usize,
+        k: usize,
+    ) -> core::ops::Range<usize> {
+        let [nx, ny, nz] = shape.dims;
+        let span = |j: usize, k: usize| self.spans[j + ny * k];
+        let [lo, hi] = span(j, k);
+        let mut hull = if lo < hi {
+            [lo.saturating_sub(1), (hi + 1).min(nx as u32)]
+        } else {
+            EMPTY
+        };
+        for (beside, exists) in [
+            ((j.wrapping_sub(1), k), j > 0),
+            ((j + 1, k), j + 1 < ny),
+            ((j, k.wrapping_sub(1)), k > 0),
+            ((j, k + 1), k + 1 < nz),
+        ] {
+            if exists {
+                hull = union(hull, span(beside.0, beside.1));
+            }
+        }
+        let [lo, hi] = hull;
+        if lo >= hi {
+            0..0
+        } else {
+            lo as usize..hi as usize
+        }
+    }
+
     /// Cells inside the spans.
     pub fn active_cells(&self) -> usize {
         self.active_cells
@@ -203,6 +238,35 @@ mod tests {
                 assert_eq!(spans.row(&shape, j, k), expected, "row {j} {k}");
             }
         }
+    }
+
+    #[test]
+    fn a_row_with_its_neighbours_holds_every_cell_beside_an_active_one() {
+        let shape = shape();
+        let mut spans = ActiveSpans::new(&shape);
+        let busy = shape.index(5, 4, 3);
+        spans.update(&shape, 0, |_, c| c == busy);
+        for k in 0..6 {
+            for j in 0..8 {
+                let expected = match (j, k) {
+                    (4, 3) => 4..7,
+                    (3 | 5, 3) | (4, 2 | 4) => 5..6,
+                    _ => 0..0,
+                };
+                assert_eq!(
+                    spans.row_with_neighbours(&shape, j, k),
+                    expected,
+                    "row {j} {k}"
+                );
+            }
+        }
+        // At the box's sides it stops there.
+        let corner = shape.index(0, 0, 0);
+        spans.update(&shape, 0, |_, c| c == corner);
+        assert_eq!(spans.row_with_neighbours(&shape, 0, 0), 0..2);
+        assert_eq!(spans.row_with_neighbours(&shape, 1, 0), 0..1);
+        assert_eq!(spans.row_with_neighbours(&shape, 0, 1), 0..1);
+        assert_eq!(spans.row_with_neighbours(&shape, 1, 1), 0..0);
     }
 
     #[test]
