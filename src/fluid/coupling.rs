@@ -80,21 +80,22 @@ pub fn blow_and_heat(
     let rate =
         settings.cloth_heat_transfer / (material.areal_density * settings.cloth_specific_heat);
     let warmed = 1.0 - (-rate * dt).exp();
-    let shape = plume.shape();
     for i in 0..particles.len() {
         let position = particles.position[i];
-        if !shape.contains(position) || particles.state[i].is_burnt() {
+        if particles.state[i].is_burnt() {
             continue;
         }
+        let Some((wind, excess)) = plume.air_at(position) else {
+            continue;
+        };
         result.inside += 1;
         if particles.inv_mass[i] != 0.0 {
-            let wind = plume.velocity_at(position);
             particles.external_force[i] += drag_per_mass * particles.mass[i] * wind;
         }
         if !heating {
             continue;
         }
-        let air = ambient + plume.temperature_at(position);
+        let air = ambient + excess;
         let t = &mut particles.temperature[i];
         if air > *t {
             *t += (air - *t) * warmed;

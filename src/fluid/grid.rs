@@ -174,15 +174,26 @@ impl GridShape {
     }
 
     /// The velocity of a staggered field `(u, v, w)` at `point`, m/s.
+    #[inline]
     pub fn sample_velocity(&self, velocity: &[Vec<f32>; 3], point: Vec3) -> Vec3 {
-        Vec3::from(core::array::from_fn::<f32, 3, _>(|axis| {
-            self.sample(
-                &velocity[axis],
-                self.face_dims(axis),
-                Stagger::face(axis),
-                point,
-            )
-        }))
+        self.sample_velocity_at(velocity, self.sample_coordinates(point))
+    }
+
+    /// `point` in cells from the box's corner (cell `(i, j, k)` spans `i..i+1` along x).
+    #[inline(always)]
+    pub fn sample_coordinates(&self, point: Vec3) -> Vec3 {
+        (point - self.origin) * (1.0 / self.cell)
+    }
+
+    /// [`GridShape::sample_velocity`] at `g`, a point in cells from the box's corner
+    /// ([`GridShape::sample_coordinates`]).
+    #[inline(always)]
+    pub fn sample_velocity_at(&self, velocity: &[Vec<f32>; 3], g: Vec3) -> Vec3 {
+        let component = |axis: usize| {
+            Self::stencil_at_sample(g - Stagger::face(axis).0, self.face_dims(axis))
+                .apply(&velocity[axis])
+        };
+        Vec3::new(component(0), component(1), component(2))
     }
 }
 

@@ -324,6 +324,21 @@ impl Plume {
             .sample(&self.temperature, self.shape.dims, Stagger::CENTRE, point)
     }
 
+    /// The air at `point`: its velocity relative to the wind, m/s, and its excess
+    /// temperature over ambient, K ([`Plume::velocity_at`] and [`Plume::temperature_at`] in
+    /// one, the point converted once); `None` outside the box or while the air is quiet.
+    #[inline]
+    pub fn air_at(&self, point: Vec3) -> Option<(Vec3, f32)> {
+        if !self.shape.contains(point) || self.is_quiet() {
+            return None;
+        }
+        let g = self.shape.sample_coordinates(point);
+        let velocity = self.shape.sample_velocity_at(&self.velocity, g);
+        let temperature = GridShape::stencil_at_sample(g - Stagger::CENTRE.0, self.shape.dims)
+            .apply(&self.temperature);
+        Some((velocity, temperature))
+    }
+
     /// Smoke density at `point`; zero outside the box.
     pub fn smoke_at(&self, point: Vec3) -> f32 {
         if !self.shape.contains(point) || self.is_quiet() {

@@ -287,3 +287,33 @@ fn moving_the_box_carries_the_air_with_it() {
         "{before} -> {after}"
     );
 }
+
+#[test]
+fn the_air_at_a_point_is_its_velocity_and_temperature_there_and_nothing_outside() {
+    let mut plume = Plume::new(PlumeSettings::default(), Vec3::ZERO).unwrap();
+    let centre = Vec3::new(1.2, 0.6, 1.2);
+    let hot = blob(&plume, centre, 0.3, 200.0);
+    plume.temperature_mut().copy_from_slice(&hot);
+    for _ in 0..20 {
+        plume.step(DT, Vec3::ZERO, Vec3::Y);
+    }
+    let size = plume.shape().size();
+    for (i, point) in [
+        centre,
+        centre + Vec3::new(0.13, 0.41, -0.07),
+        Vec3::splat(0.01),
+    ]
+    .into_iter()
+    .chain((0..20).map(|i| Vec3::new(noise(i), noise(i + 50), noise(i + 99)).abs() * size))
+    .enumerate()
+    {
+        let (velocity, temperature) = plume.air_at(point).expect("inside the box");
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        assert_eq!(bits(velocity), bits(plume.velocity_at(point)), "point {i}");
+        assert_eq!(temperature.to_bits(), plume.temperature_at(point).to_bits());
+    }
+    assert!(plume.velocity_at(centre).y > 0.1, "the hot air rises");
+    for outside in [Vec3::splat(-0.01), size + Vec3::X, Vec3::NAN] {
+        assert_eq!(plume.air_at(outside), None);
+    }
+}
