@@ -215,12 +215,14 @@ where
 /// coordinate `x` in samples; clamped to the samples, NaN to the first.
 #[inline(always)]
 fn axis_cell(x: f32, n: usize) -> (usize, f32) {
-    let top = (n - 1) as f32;
+    // Through `u32`: a grid's side fits it, and a `u32` becomes an `f32` in one instruction
+    // (a `usize` takes several); the values are the same.
+    let top = (n - 1) as u32 as f32;
     // `max` first: NaN becomes 0.
     let x = x.max(0.0).min(top);
     // `x` is in `0..=top` here, so the 32-bit conversion (one instruction) is exact.
-    let i = (x as i32 as usize).min(n.saturating_sub(2));
-    (i, (x - i as f32).min(1.0))
+    let i = (x as i32 as u32).min(n.saturating_sub(2) as u32);
+    (i as usize, (x - i as f32).min(1.0))
 }
 
 /// Eight samples and their weights around a point: built once, applied to any field with
