@@ -3,8 +3,11 @@
 //! heats the cloth it bathes.
 
 use super::plume::Plume;
+use crate::sim::parallel::{for_each_part, parts_for};
 use crate::sim::{BurnMaterial, Particles};
 use crate::smoke::BurningCloth;
+use bevy::tasks::TaskPool;
+use core::sync::atomic::{AtomicU32, Ordering};
 
 /// Feeds `plume` from one cloth over `dt` seconds. A burning particle burns its mass `m`
 /// away over `τ = (T_burnt − T_ignition) / self_heating_rate` seconds (the material's own
@@ -71,36 +74,75 @@ pub fn blow_and_heat(
     heating: bool,
     dt: f32,
 ) -> PlumeOnCloth {
-    let mut result = PlumeOnCloth::default();
+    blow_and_heat_on(plume, particles, material, [ambient, dt], heating, None)
+}
+
+/// Particles per part when [`blow_and_heat_on`] splits a cloth over the pool: about 0.4 ms
+/// of work on the 2-core machine, against the 16 µs an empty scope costs there.
+const PARTICLES_PER_PART: usize = 8192;
+
+/// [`blow_and_heat`] (`[ambient, dt]` in °C and s) with a cloth of more than
+/// [`PARTICLES_PER_PART`] particles split over `pool`'s threads: each particle's update
+/// reads only the plume and writes only that particle, so the result is the same on any
+/// number of threads.
+pub fn blow_and_heat_on(
+    plume: &Plume,
+    particles: &mut Particles,
+    material: &BurnMaterial,
+    [ambient, dt]: [f32; 2],
+    heating: bool,
+    pool: Option<&TaskPool>,
+) -> PlumeOnCloth {
     if plume.is_quiet() || !(dt.is_finite() && dt > 0.0) || !ambient.is_finite() {
-        return result;
+        return PlumeOnCloth::default();
     }
     let settings = plume.settings();
     let drag_per_mass = material.drag_per_mass();
     let rate =
         settings.cloth_heat_transfer / (material.areal_density * settings.cloth_specific_heat);
     let warmed = 1.0 - (-rate * dt).exp();
-    for i in 0..particles.len() {
-        let position = particles.position[i];
-        if particles.state[i].is_burnt() {
-            continue;
+    let Particles {
+        position,
+        state,
+        mass,
+        inv_mass,
+        temperature,
+        external_force,
+        ..
+    } = particles;
+    let n = position.len();
+    let size = n.div_ceil(parts_for(pool, n, PARTICLES_PER_PART)).max(1);
+    let (inside, heated) = (AtomicU32::new(0), AtomicU32::new(0));
+    let parts = external_force
+        .chunks_mut(size)
+        .zip(temperature.chunks_mut(size))
+        .enumerate();
+    for_each_part(pool, parts, |(part, (force, temperature))| {
+        let first = part * size;
+        let mut counts = PlumeOnCloth::default();
+        for (k, (force, t)) in force.iter_mut().zip(temperature).enumerate() {
+            let i = first + k;
+            if state[i].is_burnt() {
+                continue;
+            }
+            let Some((wind, excess)) = plume.air_at(position[i]) else {
+                continue;
+            };
+            counts.inside += 1;
+            if inv_mass[i] != 0.0 {
+                *force += drag_per_mass * mass[i] * wind;
+            }
+            let air = ambient + excess;
+            if heating && air > *t {
+                *t += (air - *t) * warmed;
+                counts.heated += 1;
+            }
         }
-        let Some((wind, excess)) = plume.air_at(position) else {
-            continue;
-        };
-        result.inside += 1;
-        if particles.inv_mass[i] != 0.0 {
-            particles.external_force[i] += drag_per_mass * particles.mass[i] * wind;
-        }
-        if !heating {
-            continue;
-        }
-        let air = ambient + excess;
-        let t = &mut particles.temperature[i];
-        if air > *t {
-            *t += (air - *t) * warmed;
-            result.heated += 1;
-        }
+        inside.fetch_add(counts.inside, Ordering::Relaxed);
+        heated.fetch_add(counts.heated, Ordering::Relaxed);
+    });
+    PlumeOnCloth {
+        inside: inside.into_inner(),
+        heated: heated.into_inner(),
     }
-    result
 }

@@ -34,7 +34,7 @@ pub mod settings;
 #[cfg(test)]
 mod validation;
 
-pub use coupling::{PlumeOnCloth, blow_and_heat, feed_plume};
+pub use coupling::{PlumeOnCloth, blow_and_heat, blow_and_heat_on, feed_plume};
 pub use grid::{GridShape, Stagger};
 pub use plugin::{FirePlume, FluidPlugin, PlumeDiagnostics, PlumeSystems};
 pub use plume::{Plume, PlumeReport};

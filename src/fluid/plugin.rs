@@ -1,6 +1,6 @@
 //! The ECS face of the plume: [`FluidPlugin`], the [`FirePlume`] resource and its systems.
 
-use super::coupling::{blow_and_heat, feed_plume};
+use super::coupling::{blow_and_heat_on, feed_plume};
 use super::plume::{Plume, PlumeReport};
 use super::settings::{PlumeSettings, PlumeSettingsError};
 use crate::plugin::{
@@ -248,15 +248,16 @@ fn plume_on_cloth(
     };
     let heating = spread.is_none_or(|s| s.enabled);
     let dt = time.delta_secs();
+    let pool = bevy::tasks::ComputeTaskPool::try_get().map(|p| &**p);
     for (mut particles, in_use) in &mut cloths {
         let material = in_use.material();
-        blow_and_heat(
+        blow_and_heat_on(
             plume,
             &mut particles,
             material,
-            material.initial_temperature,
+            [material.initial_temperature, dt],
             heating,
-            dt,
+            pool,
         );
     }
 }

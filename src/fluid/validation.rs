@@ -317,3 +317,66 @@ fn the_air_at_a_point_is_its_velocity_and_temperature_there_and_nothing_outside(
         assert_eq!(plume.air_at(outside), None);
     }
 }
+
+#[test]
+fn the_plume_blows_on_and_heats_a_big_cloth_the_same_on_any_number_of_threads() {
+    use super::coupling::{blow_and_heat, blow_and_heat_on};
+    use crate::sim::{BurnMaterial, ClothBuilder, ClothSim};
+    use bevy::tasks::TaskPoolBuilder;
+    let mut plume = Plume::new(PlumeSettings::default(), Vec3::ZERO).unwrap();
+    let centre = Vec3::new(1.2, 0.8, 1.2);
+    let hot = blob(&plume, centre, 0.4, 300.0);
+    plume.temperature_mut().copy_from_slice(&hot);
+    for _ in 0..10 {
+        plume.step(DT, Vec3::ZERO, Vec3::Y);
+    }
+    // 180 x 180 particles (three parts' worth), 7.5 mm apart, over the hot air.
+    let cloth = ClothSim::new(
+        &ClothBuilder::grid(180, 180, 0.0075).pin_top_corners(),
+        BurnMaterial::COTTON,
+        glam::Affine3A::from_translation(Vec3::new(0.6, 1.6, 1.2)),
+    )
+    .unwrap();
+    let material = *cloth.material();
+    let ambient = material.initial_temperature;
+    let mut serial = cloth.particles.clone();
+    let report = blow_and_heat(&plume, &mut serial, &material, ambient, true, DT);
+    let inside = cloth
+        .particles
+        .position
+        .iter()
+        .filter(|p| plume.shape().contains(**p));
+    assert_eq!(
+        report.inside as usize,
+        inside.count(),
+        "counts the particles in the box"
+    );
+    assert!(report.inside > 20_000);
+    assert!(
+        report.heated > 1000,
+        "the hot air warms the cloth above it: {report:?}"
+    );
+    let bits = |p: &crate::sim::Particles| {
+        let force = p
+            .external_force
+            .iter()
+            .flat_map(|f| f.to_array())
+            .map(f32::to_bits);
+        let temperature = p.temperature.iter().map(|t| t.to_bits());
+        force.chain(temperature).collect::<Vec<_>>()
+    };
+    for threads in [1, 3] {
+        let pool = TaskPoolBuilder::new().num_threads(threads).build();
+        let mut split = cloth.particles.clone();
+        let again = blow_and_heat_on(
+            &plume,
+            &mut split,
+            &material,
+            [ambient, DT],
+            true,
+            Some(&pool),
+        );
+        assert_eq!(again, report, "{threads} threads");
+        assert!(bits(&split) == bits(&serial), "{threads} threads differ");
+    }
+}
