@@ -10,7 +10,7 @@
 //! `--sizes 32 64`: only those sizes in the size table, or plume grids with `--plume-only`
 //! (for profiling one);
 //! `-- --many-only`: the twenty-cloth scene alone; `-- --plume-only` (with `fluid`): the plume's
-//! table alone.
+//! tables alone (its cost by grid size, and its pull on cloths by size).
 //!
 //! Each run: a cotton cloth 1.5 m wide, pinned at every 4th particle of its top edge, lit at the
 //! bottom centre, burning for 2 s before the measured frames; the median of 5 runs (3 for the slow
@@ -473,6 +473,61 @@ fn plume_table(pool: &TaskPool) {
     }
 }
 
+/// The plume's pull on cloths of each size (wind and heat on every particle,
+/// `blow_and_heat_on`) in a 32³ plume over a fire, on one thread and split over the pool:
+/// medians of 61 calls, ms.
+#[cfg(feature = "fluid")]
+fn pull_table(pool: &TaskPool) {
+    use bevy_burning_cloth::fluid::{Plume, PlumeSettings, blow_and_heat_on};
+    let settings = PlumeSettings {
+        resolution: [32; 3],
+        cell_size: 0.08,
+        ..Default::default()
+    };
+    let mut plume = Plume::new(settings, Vec3::new(-1.28, 0.0, -1.28)).expect("valid plume");
+    // A second of a small fire's heat: the air over it rises and spreads.
+    for _ in 0..60 {
+        plume.add_heat(Vec3::new(0.0, 0.5, 0.0), 2000.0);
+        plume.step_on(DT, Vec3::ZERO, Vec3::Y, Some(pool));
+    }
+    println!();
+    println!(
+        "| cloth in a 32³ plume | particles | the plume's pull, ms, one thread | split over the pool |"
+    );
+    println!("|---|---|---|---|");
+    for size in [64, 128, 256] {
+        let cloth = hanging(size, BurnMaterial::COTTON);
+        let material = *cloth.material();
+        let median = |pool: Option<&TaskPool>| {
+            let mut times: Vec<f64> = (0..61)
+                .map(|_| {
+                    let mut particles = cloth.particles.clone();
+                    let started = Instant::now();
+                    let report = blow_and_heat_on(
+                        &plume,
+                        &mut particles,
+                        &material,
+                        [material.initial_temperature, DT],
+                        true,
+                        pool,
+                    );
+                    let elapsed = ms(started.elapsed());
+                    assert!(report.inside > 0, "the cloth hangs in the plume");
+                    elapsed
+                })
+                .collect();
+            times.sort_by(f64::total_cmp);
+            times[times.len() / 2]
+        };
+        println!(
+            "| {size} x {size} | {} | {:.3} | {:.3} |",
+            size * size,
+            median(None),
+            median(Some(pool))
+        );
+    }
+}
+
 fn main() {
     // Bevy's default pools give compute one thread on a 2-core machine, and its schedule
     // runs systems on compute threads only: give compute every core, as a game that wants
@@ -488,7 +543,10 @@ fn main() {
     );
     if std::env::args().any(|a| a == "--plume-only") {
         #[cfg(feature = "fluid")]
-        plume_table(pool);
+        {
+            plume_table(pool);
+            pull_table(pool);
+        }
         return;
     }
     if std::env::args().any(|a| a == "--many-only") {
@@ -513,5 +571,8 @@ fn main() {
     #[cfg(feature = "smoke")]
     smoke_table();
     #[cfg(feature = "fluid")]
-    plume_table(pool);
+    {
+        plume_table(pool);
+        pull_table(pool);
+    }
 }

@@ -82,7 +82,7 @@ pub fn blow_and_heat(
 const PARTICLES_PER_PART: usize = 8192;
 
 /// [`blow_and_heat`] (`[ambient, dt]` in °C and s) with a cloth of more than
-/// [`PARTICLES_PER_PART`] particles split over `pool`'s threads: each particle's update
+/// 8 192 particles split over `pool`'s threads: each particle's update
 /// reads only the plume and writes only that particle, so the result is the same on any
 /// number of threads.
 pub fn blow_and_heat_on(
