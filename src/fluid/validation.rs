@@ -56,6 +56,18 @@ fn centroid(plume: &Plume, field: &[f32]) -> Vec3 {
     sum / weight
 }
 
+/// The default plume `steps` frames after a hot blob (`[radius, excess]`, m and K) was put
+/// at `centre` (m) in still air.
+fn rising(centre: Vec3, [radius, excess]: [f32; 2], steps: usize) -> Plume {
+    let mut plume = Plume::new(PlumeSettings::default(), Vec3::ZERO).unwrap();
+    let hot = blob(&plume, centre, radius, excess);
+    plume.temperature_mut().copy_from_slice(&hot);
+    for _ in 0..steps {
+        plume.step(DT, Vec3::ZERO, Vec3::Y);
+    }
+    plume
+}
+
 /// A pseudo-random number in [−1, 1] from an index.
 fn noise(i: usize) -> f32 {
     let x = (i as u64)
@@ -290,13 +302,8 @@ fn moving_the_box_carries_the_air_with_it() {
 
 #[test]
 fn the_air_at_a_point_is_its_velocity_and_temperature_there_and_nothing_outside() {
-    let mut plume = Plume::new(PlumeSettings::default(), Vec3::ZERO).unwrap();
     let centre = Vec3::new(1.2, 0.6, 1.2);
-    let hot = blob(&plume, centre, 0.3, 200.0);
-    plume.temperature_mut().copy_from_slice(&hot);
-    for _ in 0..20 {
-        plume.step(DT, Vec3::ZERO, Vec3::Y);
-    }
+    let plume = rising(centre, [0.3, 200.0], 20);
     let size = plume.shape().size();
     for (i, point) in [
         centre,
@@ -323,13 +330,7 @@ fn the_plume_blows_on_and_heats_a_big_cloth_the_same_on_any_number_of_threads() 
     use super::coupling::{blow_and_heat, blow_and_heat_on};
     use crate::sim::{BurnMaterial, ClothBuilder, ClothSim};
     use bevy::tasks::TaskPoolBuilder;
-    let mut plume = Plume::new(PlumeSettings::default(), Vec3::ZERO).unwrap();
-    let centre = Vec3::new(1.2, 0.8, 1.2);
-    let hot = blob(&plume, centre, 0.4, 300.0);
-    plume.temperature_mut().copy_from_slice(&hot);
-    for _ in 0..10 {
-        plume.step(DT, Vec3::ZERO, Vec3::Y);
-    }
+    let plume = rising(Vec3::new(1.2, 0.8, 1.2), [0.4, 300.0], 10);
     // 180 x 180 particles (three parts' worth), 7.5 mm apart, over the hot air.
     let cloth = ClothSim::new(
         &ClothBuilder::grid(180, 180, 0.0075).pin_top_corners(),
