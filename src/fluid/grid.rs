@@ -143,8 +143,7 @@ impl GridShape {
     /// `stagger`: points outside the samples take the nearest sample's value.
     #[inline(always)]
     pub fn stencil(&self, point: Vec3, dims: [usize; 3], stagger: Stagger) -> Stencil {
-        let g = (point - self.origin) * (1.0 / self.cell) - stagger.0;
-        Self::stencil_at_sample(g, dims)
+        Self::stencil_at_sample(self.sample_coordinates(point) - stagger.0, dims)
     }
 
     /// The trilinear stencil at `g`, a point in a field's sample coordinates (sample `(i, j,
