@@ -127,6 +127,14 @@ impl Decay {
     }
 }
 
+/// One field's advection, run beside the others by [`Advection::fields`].
+enum Field<'a> {
+    /// Temperature and smoke, into these.
+    Scalars([&'a mut [f32]; 2]),
+    /// The velocity component normal to the faces of an axis, into this.
+    Faces(usize, &'a mut [f32]),
+}
+
 /// Layers of cells (or faces) per parallel part.
 const LAYERS_PER_PART: usize = 2;
 
@@ -204,6 +212,46 @@ impl Advection<'_> {
     /// two cells. Faces that touch no active cell keep their velocity. Layers of faces run in
     /// parallel on `pool` as in [`Advection::scalars`].
     pub fn velocity(&self, from: &[Vec<f32>; 3], to: &mut [Vec<f32>; 3], pool: Option<&TaskPool>) {
+        for (axis, out) in to.iter_mut().enumerate() {
+            self.faces(axis, &from[axis], out, pool);
+        }
+    }
+
+    /// Advects the scalars ([`Advection::scalars`]) and the velocity
+    /// ([`Advection::velocity`]) of one step. Below [`PARALLEL_ACTIVE_CELLS`] active cells
+    /// the four fields' advections (the scalars, then each velocity component) run beside
+    /// one another on `pool`, each on one thread; at or above it each is split into layers
+    /// of cells. Every value depends only on the `from` fields, so the result is the same on
+    /// any number of threads.
+    pub fn fields(
+        &self,
+        solid: &[bool],
+        scalars: ([&[f32]; 2], [&mut [f32]; 2]),
+        velocity: (&[Vec<f32>; 3], &mut [Vec<f32>; 3]),
+        pool: Option<&TaskPool>,
+    ) {
+        let ((scalars, next_scalars), (velocity, next_velocity)) = (scalars, velocity);
+        if self.pool(pool).is_some() {
+            self.scalars(solid, scalars, next_scalars, pool);
+            self.velocity(velocity, next_velocity, pool);
+            return;
+        }
+        let [u, v, w] = next_velocity;
+        let fields = [
+            Field::Scalars(next_scalars),
+            Field::Faces(0, u),
+            Field::Faces(1, v),
+            Field::Faces(2, w),
+        ];
+        for_each_part(pool, fields.into_iter(), |field| match field {
+            Field::Scalars(to) => self.scalars(solid, scalars, to, None),
+            Field::Faces(axis, to) => self.faces(axis, &velocity[axis], to, None),
+        });
+    }
+
+    /// Advects the velocity component `axis` (on the faces normal to it) from `source` into
+    /// `out`, as [`Advection::velocity`] does for each.
+    fn faces(&self, axis: usize, source: &[f32], out: &mut [f32], pool: Option<&TaskPool>) {
         let shape = self.shape;
         let centre = self.centre;
         let cell_velocity = |c: usize| Vec3::new(centre[0][c], centre[1][c], centre[2][c]);
@@ -214,44 +262,41 @@ impl Advection<'_> {
         let kept = self.decay.velocity;
         let pool = self.pool(pool);
         let [nx, ny, _] = shape.dims;
-        for (axis, out) in to.iter_mut().enumerate() {
-            let dims = shape.face_dims(axis);
-            let layer = dims[0] * dims[1];
-            let stride = [1, nx, nx * ny][axis];
-            let inside = Inside::new(shape, self.walls, Stagger::face(axis));
-            let source = &from[axis];
-            let parts = out.chunks_mut(layer * LAYERS_PER_PART).enumerate();
-            for_each_part(pool, parts, |(part, out)| {
-                let k0 = part * LAYERS_PER_PART;
-                for (row, out_row) in out.chunks_mut(dims[0]).enumerate() {
-                    let (j, k) = (row % dims[1], k0 + row / dims[1]);
-                    let first = dims[0] * (j + dims[1] * k);
-                    let source_row = &source[first..first + dims[0]];
-                    for (out, u) in out_row.iter_mut().zip(source_row) {
-                        *out = u * kept;
-                    }
-                    // Faces with a cell on both sides take their mean directly; those on the
-                    // box's sides through `face_mean`.
-                    let row = self.active.face_row(shape, axis, j, k);
-                    let both = shape.inner_faces(axis, [j, k], row.clone());
-                    let cells_row = nx * (j + ny * k);
-                    for i in row {
-                        let u = if both.contains(&i) {
-                            let above = cells_row + i;
-                            (cell_velocity(above - stride) + cell_velocity(above)) * 0.5
-                        } else {
-                            face_mean(shape.face_cells(axis, [i, j, k]), cell_velocity)
-                        };
-                        let here = Vec3::new(i as f32, j as f32, k as f32);
-                        let departure = here - (u * scale + wind);
-                        out_row[i] = if inside.contains(departure) {
-                            GridShape::stencil_at_sample(departure, dims).apply(source) * kept
-                        } else {
-                            0.0
-                        };
-                    }
+        let dims = shape.face_dims(axis);
+        let layer = dims[0] * dims[1];
+        let stride = [1, nx, nx * ny][axis];
+        let inside = Inside::new(shape, self.walls, Stagger::face(axis));
+        let parts = out.chunks_mut(layer * LAYERS_PER_PART).enumerate();
+        for_each_part(pool, parts, |(part, out)| {
+            let k0 = part * LAYERS_PER_PART;
+            for (row, out_row) in out.chunks_mut(dims[0]).enumerate() {
+                let (j, k) = (row % dims[1], k0 + row / dims[1]);
+                let first = dims[0] * (j + dims[1] * k);
+                let source_row = &source[first..first + dims[0]];
+                for (out, u) in out_row.iter_mut().zip(source_row) {
+                    *out = u * kept;
                 }
-            });
-        }
+                // Faces with a cell on both sides take their mean directly; those on the
+                // box's sides through `face_mean`.
+                let row = self.active.face_row(shape, axis, j, k);
+                let both = shape.inner_faces(axis, [j, k], row.clone());
+                let cells_row = nx * (j + ny * k);
+                for i in row {
+                    let u = if both.contains(&i) {
+                        let above = cells_row + i;
+                        (cell_velocity(above - stride) + cell_velocity(above)) * 0.5
+                    } else {
+                        face_mean(shape.face_cells(axis, [i, j, k]), cell_velocity)
+                    };
+                    let here = Vec3::new(i as f32, j as f32, k as f32);
+                    let departure = here - (u * scale + wind);
+                    out_row[i] = if inside.contains(departure) {
+                        GridShape::stencil_at_sample(departure, dims).apply(source) * kept
+                    } else {
+                        0.0
+                    };
+                }
+            }
+        });
     }
 }

@@ -393,15 +393,17 @@ impl Plume {
                 hottest: self.settings.max_temperature,
             },
         };
-        advection.scalars(
+        advection.fields(
             &self.solid,
-            [&self.temperature, &self.smoke],
-            [&mut self.next_temperature, &mut self.next_smoke],
+            (
+                [&self.temperature, &self.smoke],
+                [&mut self.next_temperature, &mut self.next_smoke],
+            ),
+            (&self.velocity, &mut self.next_velocity),
             pool,
         );
         core::mem::swap(&mut self.temperature, &mut self.next_temperature);
         core::mem::swap(&mut self.smoke, &mut self.next_smoke);
-        advection.velocity(&self.velocity, &mut self.next_velocity, pool);
         core::mem::swap(&mut self.velocity, &mut self.next_velocity);
 
         add_buoyancy(
