@@ -469,11 +469,8 @@ impl XpbdSolver {
             let work = pieces(&mut self.rest, parts).zip(spring.chunks(size));
             for_each_part(pool, work, |(rest, spring)| {
                 for (rest, &s) in rest.iter_mut().zip(spring) {
-                    *rest = if s == PHANTOM {
-                        0.0
-                    } else {
-                        lengths[s as usize]
-                    };
+                    // `PHANTOM` is past every spring: one test for both.
+                    *rest = lengths.get(s as usize).copied().unwrap_or(0.0);
                 }
             });
         }
@@ -794,6 +791,11 @@ impl XpbdSolver {
         let repaired = AtomicU32::new(0);
         let max_speed_squared = guard.max_speed * guard.max_speed;
         let SlotArrays { x, v, free, .. } = &self.slots;
+        // Every slot array cut to one length, so one test per particle checks all its reads.
+        let slots = free.len();
+        let free = &free[..slots];
+        let [x0, x1, x2] = x.each_ref().map(|a| &a[..slots]);
+        let [v0, v1, v2] = v.each_ref().map(|a| &a[..slots]);
         let n = particles.len();
         let parts = parts_for(pool, n, 2048);
         let size = n.div_ceil(parts);
@@ -804,11 +806,11 @@ impl XpbdSolver {
             let mut put_back = 0;
             for ((p, vel), &s) in position.iter_mut().zip(velocity.iter_mut()).zip(slot) {
                 let s = s as usize;
-                if free[s] == 0.0 {
+                if s >= slots || free[s] == 0.0 {
                     continue;
                 }
-                let new_position = glam::Vec3::new(x[0][s], x[1][s], x[2][s]);
-                let new_velocity = glam::Vec3::new(v[0][s], v[1][s], v[2][s]);
+                let new_position = glam::Vec3::new(x0[s], x1[s], x2[s]);
+                let new_velocity = glam::Vec3::new(v0[s], v1[s], v2[s]);
                 let blown = !(new_position.is_finite()
                     && new_velocity.is_finite()
                     && new_velocity.length_squared() <= max_speed_squared);
@@ -1146,38 +1148,73 @@ impl<'a> SlotChunk<'a> {
     /// Copies in the particles of these slots (padding stays still). Pins start `frame`
     /// seconds of their velocity before their target and move there over the substeps.
     fn read(&mut self, particles: &Particles, w: &[f32], constant: glam::Vec3, frame: f32) {
-        for s in 0..self.free.len() {
-            let i = self.particle[s] as usize;
-            let Some(&mass_inverse) = w.get(i) else {
-                self.free[s] = 0.0;
-                self.moving[s] = 0.0;
+        // Every array cut to the slots' length once, so the loop checks no bounds on them.
+        let n = self.free.len();
+        let (particle, free, moving) = (
+            &self.particle[..n],
+            &mut self.free[..n],
+            &mut self.moving[..n],
+        );
+        let [x0, x1, x2] = &mut self.x;
+        let [v0, v1, v2] = &mut self.v;
+        let [a0, a1, a2] = &mut self.acceleration;
+        let (x0, x1, x2) = (&mut x0[..n], &mut x1[..n], &mut x2[..n]);
+        let (v0, v1, v2) = (&mut v0[..n], &mut v1[..n], &mut v2[..n]);
+        let (a0, a1, a2) = (&mut a0[..n], &mut a1[..n], &mut a2[..n]);
+        // `w` has one entry per particle; padding slots name no particle.
+        let count = w.len();
+        let state = &particles.state[..count];
+        let (position, velocity) = (&particles.position[..count], &particles.velocity[..count]);
+        let force = &particles.external_force[..count];
+        for s in 0..n {
+            let i = particle[s] as usize;
+            if i >= count {
+                free[s] = 0.0;
+                moving[s] = 0.0;
                 continue;
-            };
-            let burnt = particles.state[i].is_burnt();
-            let pinned = particles.inv_mass[i] == 0.0;
-            let is_free = !burnt && !pinned;
-            self.free[s] = if is_free { 1.0 } else { 0.0 };
-            self.moving[s] = if burnt { 0.0 } else { 1.0 };
-            let (position, velocity) = (particles.position[i], particles.velocity[i]);
-            let start = if pinned && !burnt {
-                position - frame * velocity
-            } else {
-                position
-            };
+            }
+            // `w` is zero for burnt and pinned particles: the free ones are the rest.
+            let mass_inverse = w[i];
+            let burnt = state[i].is_burnt();
+            let is_free = mass_inverse != 0.0;
+            free[s] = if is_free { 1.0 } else { 0.0 };
+            moving[s] = if burnt { 0.0 } else { 1.0 };
+            let (p, v) = (position[i], velocity[i]);
+            // A pin (not free, not burnt) starts a frame of its velocity before its target.
+            let start = if !is_free && !burnt { p - frame * v } else { p };
             let a = if is_free {
-                constant + particles.external_force[i] * mass_inverse
+                constant + force[i] * mass_inverse
             } else {
                 glam::Vec3::ZERO
             };
-            for axis in 0..3 {
-                self.x[axis][s] = start[axis];
-                self.v[axis][s] = velocity[axis];
-                self.acceleration[axis][s] = a[axis];
-            }
+            (x0[s], x1[s], x2[s]) = (start.x, start.y, start.z);
+            (v0[s], v1[s], v2[s]) = (v.x, v.y, v.z);
+            (a0[s], a1[s], a2[s]) = (a.x, a.y, a.z);
         }
     }
 
+    /// One substep's per-slot work: tethers, colliders, then the velocity update and the
+    /// next prediction as `phase` says. Compiled for AVX too, taken where the CPU has it
+    /// (the same operations, no fused multiply-add, so the same bits).
     fn run(&mut self, pins: &[[f32; 3]], step: &Substep, phase: Phase) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::sim::simd::avx_available() {
+            // SAFETY: this CPU has AVX.
+            #[allow(unsafe_code)]
+            return unsafe { self.run_avx(pins, step, phase) };
+        }
+        self.run_portable(pins, step, phase);
+    }
+
+    /// [`Self::run`] compiled for AVX. Only called when the CPU has it.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    fn run_avx(&mut self, pins: &[[f32; 3]], step: &Substep, phase: Phase) {
+        self.run_portable(pins, step, phase);
+    }
+
+    #[inline(always)]
+    fn run_portable(&mut self, pins: &[[f32; 3]], step: &Substep, phase: Phase) {
         if phase != Phase::PredictOnly {
             if step.tethered {
                 if step.refresh_targets {
@@ -1197,6 +1234,7 @@ impl<'a> SlotChunk<'a> {
     }
 
     /// Each slot's tether target: the position of its pin in `pins`.
+    #[inline(always)]
     fn place_targets(&mut self, pins: &[[f32; 3]]) {
         for (s, &pin) in self.tether_pin.iter().enumerate() {
             for (target, &coordinate) in self.tether_target.iter_mut().zip(&pins[pin as usize]) {
@@ -1207,6 +1245,7 @@ impl<'a> SlotChunk<'a> {
 
     /// Pulls every particle farther from its pin than its tether allows back to the tether's
     /// length (the pin does not move).
+    #[inline(always)]
     fn tethers(&mut self) {
         let n = self.free.len();
         let (length, free) = (&self.tether_length[..n], &self.free[..n]);
@@ -1234,6 +1273,7 @@ impl<'a> SlotChunk<'a> {
     /// velocity from their displacement, every particle moves by it; then the velocities
     /// take the outside accelerations (drag implicitly, so any step is stable) and the
     /// particles move with them, `u = h v`.
+    #[inline(always)]
     fn finish_and_predict(&mut self, h: f32, drag: f32) {
         let (inverse, keep) = (1.0 / h, 1.0 / (1.0 + h * drag));
         let n = self.free.len();
@@ -1279,6 +1319,7 @@ impl<'a> SlotChunk<'a> {
 
     /// Free particles take their velocity from their displacement over the substep; every
     /// particle moves by it.
+    #[inline(always)]
     fn finish(&mut self, h: f32) {
         let inverse = 1.0 / h;
         let n = self.free.len();
@@ -1298,6 +1339,7 @@ impl<'a> SlotChunk<'a> {
 
     /// Velocities take the outside accelerations (drag implicitly, so any step is stable) and
     /// the particles move with them: `u = h v`.
+    #[inline(always)]
     fn predict(&mut self, h: f32, drag: f32) {
         let keep = 1.0 / (1.0 + h * drag);
         let n = self.free.len();
