@@ -53,7 +53,7 @@ impl MeshData {
         let parts = parts_for(pool, n, SMALLEST_PART);
         let size = n.div_ceil(parts).max(1);
         // Positions and burn data, vertex by vertex.
-        let state = &particles.state;
+        let state = &particles.state[..n];
         let work = pieces(&mut self.positions, parts)
             .zip(pieces(&mut self.burn, parts))
             .zip(particles.position.chunks(size))
@@ -62,44 +62,25 @@ impl MeshData {
             pool,
             work,
             |(((positions, burn), world), (temperature, state))| {
-                for (out, p) in positions.iter_mut().zip(world) {
-                    *out = world_to_local.transform_point3(*p).to_array();
-                }
-                for ((out, &t), &s) in burn.iter_mut().zip(temperature).zip(state) {
-                    *out = burn_attribute(t, s, material);
-                }
+                local_vertices(positions, world, world_to_local);
+                burn_data(burn, temperature, state, material);
             },
         );
         // Face normals, triangle by triangle, from the local positions.
         let triangles = &topology.triangles;
         let face_parts = parts_for(pool, triangles.len(), SMALLEST_PART);
         let face_size = triangles.len().div_ceil(face_parts).max(1);
-        let positions = &self.positions;
+        let positions = &self.positions[..n];
         let work = pieces(&mut self.face, face_parts).zip(triangles.chunks(face_size));
         for_each_part(pool, work, |(faces, triangles)| {
-            for (face, triangle) in faces.iter_mut().zip(triangles) {
-                let [a, b, c] = triangle.map(|i| i as usize);
-                let drawn = [a, b, c].iter().all(|&i| state[i] != BurnState::Burnt);
-                *face = if drawn {
-                    let [pa, pb, pc] = [a, b, c].map(|i| Vec3::from(positions[i]));
-                    // The cross product's length is twice the area: larger triangles weigh
-                    // more.
-                    (pb - pa).cross(pc - pa)
-                } else {
-                    Vec3::ZERO
-                };
-            }
+            face_normals(faces, triangles, positions, state);
         });
         // Vertex normals, vertex by vertex, from the faces around each.
         let (faces, start, rows) = (&self.face, &self.rows_start, &self.rows);
         let work = pieces(&mut self.normals, parts).enumerate();
         for_each_part(pool, work, |(part, normals)| {
-            for (k, normal) in normals.iter_mut().enumerate() {
-                let i = part * size + k;
-                let around = &rows[start[i] as usize..start[i + 1] as usize];
-                let sum: Vec3 = around.iter().map(|&t| faces[t as usize]).sum();
-                *normal = sum.try_normalize().unwrap_or(Vec3::Z).to_array();
-            }
+            let first = part * size;
+            vertex_normals(normals, &start[first..=first + normals.len()], rows, faces);
         });
     }
 
@@ -137,6 +118,59 @@ impl MeshData {
                 }
             }
         }
+    }
+}
+
+/// Each world position of `world` in the cloth's local frame.
+fn local_vertices(out: &mut [[f32; 3]], world: &[Vec3], world_to_local: Affine3A) {
+    for (out, p) in out.iter_mut().zip(world) {
+        *out = world_to_local.transform_point3(*p).to_array();
+    }
+}
+
+/// Each particle's [`burn_attribute`].
+fn burn_data(
+    out: &mut [[f32; 2]],
+    temperature: &[f32],
+    state: &[BurnState],
+    material: &BurnMaterial,
+) {
+    for ((out, &t), &s) in out.iter_mut().zip(temperature).zip(state) {
+        *out = burn_attribute(t, s, material);
+    }
+}
+
+/// Each triangle's normal scaled by twice its area, or zero once a corner has burnt.
+/// `positions` and `state` have one entry per particle.
+fn face_normals(
+    out: &mut [Vec3],
+    triangles: &[[u32; 3]],
+    positions: &[[f32; 3]],
+    state: &[BurnState],
+) {
+    // Both cut to one length, so one test per corner checks both reads.
+    let state = &state[..positions.len()];
+    for (face, triangle) in out.iter_mut().zip(triangles) {
+        let [a, b, c] = triangle.map(|i| i as usize);
+        let burnt = |i: usize| state[i] == BurnState::Burnt;
+        // `|` rather than `||`: no branch per corner.
+        *face = if burnt(a) | burnt(b) | burnt(c) {
+            Vec3::ZERO
+        } else {
+            let [pa, pb, pc] = [a, b, c].map(|i| Vec3::from(positions[i]));
+            // The cross product's length is twice the area: larger triangles weigh more.
+            (pb - pa).cross(pc - pa)
+        };
+    }
+}
+
+/// Each vertex's normal: the normalised sum of the faces around it, `+Z` for none. Vertex
+/// `k`'s faces are `rows[bounds[k]..bounds[k + 1]]`.
+fn vertex_normals(out: &mut [[f32; 3]], bounds: &[u32], rows: &[u32], faces: &[Vec3]) {
+    for (normal, ends) in out.iter_mut().zip(bounds.windows(2)) {
+        let around = &rows[ends[0] as usize..ends[1] as usize];
+        let sum: Vec3 = around.iter().map(|&t| faces[t as usize]).sum();
+        *normal = sum.try_normalize().unwrap_or(Vec3::Z).to_array();
     }
 }
 
