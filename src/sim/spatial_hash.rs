@@ -19,9 +19,10 @@ pub struct SpatialHash {
     /// The cell of each entry: a query visits an entry only from its own cell, so a bucket
     /// that two of the 27 cells share is not counted twice.
     entry_cells: Vec<IVec3>,
-    /// Bucket of each inserted point (scratch for the counting sort).
+    /// The points inserted (included, with a finite position), and the bucket and cell of
+    /// each (scratch for the counting sort).
+    inserted: Vec<u32>,
     point_bucket: Vec<u32>,
-    /// Cell of each inserted point (scratch for the counting sort).
     point_cell: Vec<IVec3>,
 }
 
@@ -32,34 +33,36 @@ impl SpatialHash {
     /// position is left out, as is every point when `cell_size` is not positive and finite.
     pub fn build(&mut self, positions: &[Vec3], cell_size: f32, include: impl Fn(usize) -> bool) {
         self.cell_size = cell_size;
-        // About two buckets per included point: the table grows with what is hashed, not with
-        // the cloth.
-        let included = (0..positions.len()).filter(|&i| include(i)).count();
-        // A power of two, so a bucket is a shift, not a division.
-        let table = (2 * included).max(2).next_power_of_two();
         self.bucket_start.clear();
-        self.bucket_start.resize(table + 1, 0);
         self.point_bucket.clear();
         self.point_cell.clear();
+        self.inserted.clear();
         self.entries.clear();
         self.entry_cells.clear();
-        if !(cell_size.is_finite() && cell_size > 0.0) {
-            return;
-        }
+        let valid = cell_size.is_finite() && cell_size > 0.0;
+        // The included points with a finite position, and their cells; the table is sized by
+        // every included point.
+        let mut included = 0usize;
         for (i, &p) in positions.iter().enumerate() {
-            let (bucket, cell) = if include(i) && p.is_finite() {
-                let cell = self.cell_of(p);
-                let bucket = self.bucket_of(cell);
-                self.bucket_start[bucket as usize] += 1;
-                (bucket, cell)
-            } else {
-                (u32::MAX, IVec3::ZERO)
-            };
+            if include(i) {
+                included += 1;
+                if valid && p.is_finite() {
+                    self.inserted.push(i as u32);
+                    self.point_cell.push(self.cell_of(p));
+                }
+            }
+        }
+        // About two buckets per included point: the table grows with what is hashed, not with
+        // the cloth. A power of two, so a bucket is a shift, not a division.
+        let table = (2 * included).max(2).next_power_of_two();
+        self.bucket_start.resize(table + 1, 0);
+        for k in 0..self.point_cell.len() {
+            let bucket = self.bucket_of(self.point_cell[k]);
+            self.bucket_start[bucket as usize] += 1;
             self.point_bucket.push(bucket);
-            self.point_cell.push(cell);
         }
         // An inclusive prefix sum turns counts into end offsets; filling backwards then
-        // decrements each to its start.
+        // decrements each to its start, leaving each bucket's points in index order.
         let mut running = 0;
         for start in &mut self.bucket_start {
             running += *start;
@@ -67,13 +70,11 @@ impl SpatialHash {
         }
         self.entries.resize(running as usize, 0);
         self.entry_cells.resize(running as usize, IVec3::ZERO);
-        for (i, &bucket) in self.point_bucket.iter().enumerate().rev() {
-            if bucket != u32::MAX {
-                let slot = &mut self.bucket_start[bucket as usize];
-                *slot -= 1;
-                self.entries[*slot as usize] = i as u32;
-                self.entry_cells[*slot as usize] = self.point_cell[i];
-            }
+        for k in (0..self.inserted.len()).rev() {
+            let slot = &mut self.bucket_start[self.point_bucket[k] as usize];
+            *slot -= 1;
+            self.entries[*slot as usize] = self.inserted[k];
+            self.entry_cells[*slot as usize] = self.point_cell[k];
         }
     }
 
@@ -126,6 +127,7 @@ impl SpatialHash {
             (2 * points).max(2).next_power_of_two() + 1,
         );
         reserve(&mut self.entries, points);
+        reserve(&mut self.inserted, points);
         reserve(&mut self.point_bucket, points);
         let reserve = |v: &mut Vec<IVec3>, wanted: usize| v.reserve(wanted.saturating_sub(v.len()));
         reserve(&mut self.entry_cells, points);
@@ -134,7 +136,10 @@ impl SpatialHash {
 
     /// Heap memory held, bytes (capacity, not length).
     pub fn heap_bytes(&self) -> usize {
-        (self.bucket_start.capacity() + self.entries.capacity() + self.point_bucket.capacity())
+        (self.bucket_start.capacity()
+            + self.entries.capacity()
+            + self.inserted.capacity()
+            + self.point_bucket.capacity())
             * size_of::<u32>()
             + (self.entry_cells.capacity() + self.point_cell.capacity()) * size_of::<IVec3>()
     }
@@ -176,6 +181,8 @@ mod tests {
             ));
         }
         positions.push(Vec3::splat(1.0e6));
+        // Left out of the hash, and found by no query.
+        positions.push(Vec3::NAN);
         let mut hash = SpatialHash::default();
         let radius = 0.1;
         // Cells as large as the radius (up to 27 visited) and twice as large (up to 8), queried
