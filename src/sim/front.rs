@@ -4,7 +4,8 @@
 //!
 //! One pass over the particles remains per step, [`Front::scan`]: it reads each temperature
 //! and state (so a temperature or a state written from outside takes effect) and counts what
-//! the report needs. It does no work per spring or per triangle; everything else runs over
+//! the report needs, a run of 16 particles at a time, doing per-particle work only in runs
+//! where something changes. It does no work per spring or per triangle; everything else runs over
 //! the lists: the heat push from the particles on fire to their neighbours, the shrinking of
 //! the springs of warm particles down to their floor (and, for XPBD, Provot's stretch limit
 //! on them), the cutting of springs that span a particle that just burnt, and the removal of

@@ -73,7 +73,8 @@ pub fn run_phases(
 /// machine's cores less the caller's. A thread waiting for a phase spins, so a third thread
 /// on two cores takes turns from the two doing the work, and each phase then waits for
 /// whichever was switched out (on the 2-core machine, a 256 x 256 cloth's dynamics with a
-/// 2-thread pool: 5.3–5.9 ms a frame with three threads, 3.9–4.0 with two).
+/// 2-thread pool, medians of three alternated runs: 4.50 ms a frame with three threads, 3.69
+/// with two).
 fn helpers(pool: &TaskPool) -> usize {
     static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
     let cores = *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()));

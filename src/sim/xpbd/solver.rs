@@ -791,11 +791,6 @@ impl XpbdSolver {
         let repaired = AtomicU32::new(0);
         let max_speed_squared = guard.max_speed * guard.max_speed;
         let SlotArrays { x, v, free, .. } = &self.slots;
-        // Every slot array cut to one length, so one test per particle checks all its reads.
-        let slots = free.len();
-        let free = &free[..slots];
-        let [x0, x1, x2] = x.each_ref().map(|a| &a[..slots]);
-        let [v0, v1, v2] = v.each_ref().map(|a| &a[..slots]);
         let n = particles.len();
         let parts = parts_for(pool, n, 2048);
         let size = n.div_ceil(parts);
@@ -803,6 +798,13 @@ impl XpbdSolver {
             .zip(pieces(&mut particles.velocity, parts))
             .zip(self.slot.chunks(size));
         for_each_part(pool, work, |((position, velocity), slot)| {
+            // Every slot array cut to one length here, where the loop is (a length read back
+            // from the closure's captures is not known to be the same), so one test per
+            // particle checks all its reads.
+            let slots = free.len();
+            let free = &free[..slots];
+            let (x0, x1, x2) = (&x[0][..slots], &x[1][..slots], &x[2][..slots]);
+            let (v0, v1, v2) = (&v[0][..slots], &v[1][..slots], &v[2][..slots]);
             let mut put_back = 0;
             for ((p, vel), &s) in position.iter_mut().zip(velocity.iter_mut()).zip(slot) {
                 let s = s as usize;
