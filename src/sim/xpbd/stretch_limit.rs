@@ -310,6 +310,15 @@ impl Ends for Rows<'_> {
 /// rows, and that bucket was not visited again (a burning curtain's springs stayed up to 1.5
 /// times their limit with 2 passes per bucket, 2.2 times with 400).
 pub(super) fn limit_all(flat: &mut Flat, buckets: &SharedBuckets, rounds: u32) {
+    // Every array cut to one length here, where the loops are, so the six tests of an end's
+    // reads are one.
+    let n = flat.x[0].len();
+    let [x0, x1, x2] = flat.x;
+    let [u0, u1, u2] = &mut flat.u;
+    let flat = &mut Flat {
+        x: [&x0[..n], &x1[..n], &x2[..n]],
+        u: [&mut u0[..n], &mut u1[..n], &mut u2[..n]],
+    };
     let bands = buckets.rest();
     for _ in 0..rounds {
         let mut corrected = 0;
