@@ -33,7 +33,7 @@
 //! - [`plugin`]: components, events, system sets; thin systems that gather the world, call
 //!   the step for each cloth, and report.
 //! - `render` (feature `render`): the dynamic mesh, the burning material, click-to-ignite,
-//!   [`Flammable`](render::Flammable) meshes.
+//!   `render::Flammable` meshes.
 //! - `material_file` (feature `material_assets`): materials as `.burnmat.ron` asset files.
 //! - `smoke` (feature `smoke`): flames, smoke and embers from the burning front.
 //! - `ui` (feature `egui`): the control panel.
@@ -52,7 +52,7 @@
 //! - `gltf` (default, implies `render`): Bevy's glTF loader, for the glTF example and test.
 //! - `material_assets` (default): materials as `.burnmat.ron` asset files
 //!   (`material_file`); `hot_reload` (off) adds Bevy's file watcher so edits apply live.
-//! - `report` (off): the accuracy report and stability matrix ([`report`]), for the report
+//! - `report` (off): the accuracy report and stability matrix (`report`), for the report
 //!   examples and their tests.
 
 #![warn(missing_docs)]
