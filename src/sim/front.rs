@@ -292,7 +292,9 @@ impl Front {
             let end = (first + SETTLED_RUN).min(n);
             // A run of particles none of which changes or is listed this step (the usual
             // case far from the fire) needs only its burnt ones counted.
-            if let Some(burnt) = self.settled_run(particles, first..end, material) {
+            if let Some(burnt) =
+                self.settled_run(particles, first..end, [ignition, burnt_above, initial])
+            {
                 counts.burnt += burnt;
                 first = end;
                 continue;
@@ -344,6 +346,8 @@ impl Front {
 
     /// If no particle of `run` would change in [`Front::scan`] (its state stays, it joins or
     /// leaves no list, it is not a pin to list), how many of them are burnt; else `None`.
+    /// `[ignition, burnt_above, initial]`: the material's temperatures, °C, as the scan
+    /// compares with them.
     /// Settled: burnt and already dealt with, or intact, not on fire, no hotter than its
     /// ignition and burnt temperatures, not pinned, and warm already or no warmer than the
     /// initial temperature. Tested without a branch per particle, so the whole run costs a
@@ -352,13 +356,8 @@ impl Front {
         &self,
         particles: &Particles,
         run: core::ops::Range<usize>,
-        material: &BurnMaterial,
+        [ignition, burnt_above, initial]: [f32; 3],
     ) -> Option<u32> {
-        let (ignition, burnt_above, initial) = (
-            material.ignition_temperature,
-            material.burnt_temperature,
-            material.initial_temperature,
-        );
         let temperature = &particles.temperature[run.clone()];
         let state = &particles.state[run.clone()];
         let inv_mass = &particles.inv_mass[run.clone()];
@@ -618,8 +617,8 @@ mod tests {
     }
 
     /// The scan skips runs of particles with nothing to do; whatever is edited wherever in a
-    /// run (heat, a pin, a burn or a put-out set from outside, cooling, NaN), the states, lists and counts
-    /// are those of the rules applied to every particle.
+    /// run (heat, a pin, a burn or a put-out set from outside, cooling, NaN), the states,
+    /// lists and counts are those of the rules applied to every particle.
     #[test]
     fn a_scan_finds_every_change_wherever_it_falls_in_a_run() {
         let material = BurnMaterial::COTTON;

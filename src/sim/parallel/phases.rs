@@ -39,8 +39,8 @@ pub fn run_phases(
     work: impl Fn(usize, usize) + Sync,
 ) {
     let total: usize = sizes.iter().sum();
-    let pool = pool.filter(|pool| cfg!(feature = "parallel") && helpers(pool) > 0);
-    let Some(pool) = pool.filter(|_| total > 1) else {
+    let helpers = pool.map_or(0, helpers);
+    let Some(pool) = pool.filter(|_| cfg!(feature = "parallel") && helpers > 0 && total > 1) else {
         for (phase, &items) in sizes.iter().enumerate() {
             (0..items).for_each(|item| work(phase, item));
         }
@@ -62,7 +62,7 @@ pub fn run_phases(
         }
     };
     pool.scope(|scope| {
-        for _ in 0..helpers(pool) {
+        for _ in 0..helpers {
             scope.spawn(async { worker(End::Back) });
         }
         worker(End::Front);
