@@ -75,7 +75,7 @@ pub fn run_phases(
 /// whichever was switched out (on the 2-core machine, a 256 x 256 cloth's dynamics with a
 /// 2-thread pool, medians of three alternated runs: 4.50 ms a frame with three threads, 3.69
 /// with two).
-fn helpers(pool: &TaskPool) -> usize {
+pub(super) fn helpers(pool: &TaskPool) -> usize {
     static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
     let cores = *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     pool.thread_num().min(cores.saturating_sub(1))
