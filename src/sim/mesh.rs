@@ -9,7 +9,7 @@ use super::parallel::{for_each_part, parts_for, pieces};
 use super::particles::{BurnState, Particles};
 use super::topology::Topology;
 use bevy::tasks::TaskPool;
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Vec3, Vec3A};
 
 /// Items per part below which a job is not split.
 const SMALLEST_PART: usize = 4096;
@@ -23,8 +23,9 @@ pub struct MeshData {
     pub normals: Vec<[f32; 3]>,
     /// [`burn_attribute`] of each particle.
     pub burn: Vec<[f32; 2]>,
-    /// Twice-area normal of each triangle (zero when it is not drawn).
-    face: Vec<Vec3>,
+    /// Twice-area normal of each triangle (zero when it is not drawn); SIMD vectors, so
+    /// summing a vertex's faces is a vector add a face.
+    face: Vec<Vec3A>,
     /// The triangles of each particle, compressed rows.
     rows_start: Vec<u32>,
     rows: Vec<u32>,
@@ -35,7 +36,7 @@ impl MeshData {
     pub fn heap_bytes(&self) -> usize {
         (self.positions.capacity() + self.normals.capacity()) * size_of::<[f32; 3]>()
             + self.burn.capacity() * size_of::<[f32; 2]>()
-            + self.face.capacity() * size_of::<Vec3>()
+            + self.face.capacity() * size_of::<Vec3A>()
             + (self.rows_start.capacity() + self.rows.capacity()) * size_of::<u32>()
     }
 
@@ -94,7 +95,7 @@ impl MeshData {
             return;
         }
         self.face.clear();
-        self.face.resize(triangles.len(), Vec3::ZERO);
+        self.face.resize(triangles.len(), Vec3A::ZERO);
         self.rows_start.clear();
         self.rows_start.resize(n + 1, 0);
         for triangle in triangles {
@@ -143,7 +144,7 @@ fn burn_data(
 /// Each triangle's normal scaled by twice its area, or zero once a corner has burnt.
 /// `positions` and `state` have one entry per particle.
 fn face_normals(
-    out: &mut [Vec3],
+    out: &mut [Vec3A],
     triangles: &[[u32; 3]],
     positions: &[[f32; 3]],
     state: &[BurnState],
@@ -155,9 +156,9 @@ fn face_normals(
         let burnt = |i: usize| state[i] == BurnState::Burnt;
         // `|` rather than `||`: no branch per corner.
         *face = if burnt(a) | burnt(b) | burnt(c) {
-            Vec3::ZERO
+            Vec3A::ZERO
         } else {
-            let [pa, pb, pc] = [a, b, c].map(|i| Vec3::from(positions[i]));
+            let [pa, pb, pc] = [a, b, c].map(|i| Vec3A::from(positions[i]));
             // The cross product's length is twice the area: larger triangles weigh more.
             (pb - pa).cross(pc - pa)
         };
@@ -166,11 +167,11 @@ fn face_normals(
 
 /// Each vertex's normal: the normalised sum of the faces around it, `+Z` for none. Vertex
 /// `k`'s faces are `rows[bounds[k]..bounds[k + 1]]`.
-fn vertex_normals(out: &mut [[f32; 3]], bounds: &[u32], rows: &[u32], faces: &[Vec3]) {
+fn vertex_normals(out: &mut [[f32; 3]], bounds: &[u32], rows: &[u32], faces: &[Vec3A]) {
     for (normal, ends) in out.iter_mut().zip(bounds.windows(2)) {
         let around = &rows[ends[0] as usize..ends[1] as usize];
-        let sum: Vec3 = around.iter().map(|&t| faces[t as usize]).sum();
-        *normal = sum.try_normalize().unwrap_or(Vec3::Z).to_array();
+        let sum: Vec3A = around.iter().map(|&t| faces[t as usize]).sum();
+        *normal = sum.try_normalize().unwrap_or(Vec3A::Z).to_array();
     }
 }
 
