@@ -2,7 +2,8 @@
 //! threads (and the calling thread) when the crate is built with `parallel`, else one after
 //! another. Results never depend on how the parts are scheduled.
 //!
-//! Two shapes: [`for_each_part`], one job cut into parts under a scope of its own; and
+//! Two shapes: [`for_each_part`], one job cut into parts under a scope of its own (the
+//! calling thread working from the start, pool threads joining as they wake); and
 //! [`run_phases`], a frame's many short passes under one scope, each pass's items run by
 //! whichever thread takes them (with `Disjoint` handing each item its part of arrays that
 //! the next pass cuts differently).
