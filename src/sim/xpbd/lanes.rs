@@ -71,6 +71,11 @@ impl GridSlots {
         self.rows * self.width
     }
 
+    /// Rows of the grid.
+    pub fn rows(&self) -> u32 {
+        self.rows
+    }
+
     /// Slots per quarter-grid row.
     pub fn width(&self) -> u32 {
         self.width
@@ -316,6 +321,8 @@ mod tests {
             (16, 16, 4),
             (33, 17, 5),
             (64, 40, 8),
+            (13, 9, 9),
+            (32, 32, 32),
         ] {
             check(columns, rows, band);
         }
