@@ -51,6 +51,19 @@ pub(crate) struct RunData<'a> {
     pub gamma: f32,
 }
 
+impl<'a> RunData<'a> {
+    /// The same data with every array cut to `len` entries.
+    #[inline(always)]
+    fn cut(self, len: usize) -> Self {
+        Self {
+            rest: &self.rest[..len],
+            ca: &self.ca[..len],
+            cb: &self.cb[..len],
+            gamma: self.gamma,
+        }
+    }
+}
+
 /// `N` lanes of `f32`, which the compiler keeps in one SIMD register (4: SSE, 8: AVX).
 type Lanes<const N: usize> = [f32; N];
 
@@ -122,6 +135,8 @@ fn split_lane<const N: usize>(
     data: RunData,
 ) {
     let len = data.rest.len();
+    // The per-element arrays cut to one length too, so one test covers a chunk's reads.
+    let data = data.cut(len);
     let [xa0, xa1, xa2] = xa.map(|s| &s[..len]);
     let [xb0, xb1, xb2] = xb.map(|s| &s[..len]);
     let [ua0, ua1, ua2] = ua;
@@ -231,6 +246,7 @@ fn shared_lane<const N: usize>(
     data: RunData,
 ) {
     let len = data.rest.len();
+    let data = data.cut(len);
     let end = a.max(b) + len;
     let [x0, x1, x2] = x.map(|s| &s[..end]);
     let [u0, u1, u2] = u;
