@@ -11,11 +11,14 @@ use super::topology::Topology;
 use bevy::tasks::TaskPool;
 use glam::{Affine3A, Vec3, Vec3A};
 
-/// Vertices below which a cloth's mesh is updated on one thread, and items per part, at
-/// least, above it. A mesh bench (two threads, medians of 15 blocks, three alternated runs)
-/// put the line here: at 64 x 64, four parts took 0.09–0.12 ms against 0.05–0.08 in one;
-/// at 128 x 128, parts of 1 024 took 0.18–0.24 ms against 0.26–0.27 for parts of 4 096.
+/// Vertices below which a cloth's mesh is updated on one thread. A mesh bench (two threads,
+/// medians of 15 blocks, three alternated runs): at 64 x 64, four parts took 0.09–0.12 ms
+/// against 0.05–0.08 in one.
 const SERIAL_BELOW: usize = 8192;
+
+/// Vertices or triangles per part, at least, of a mesh updated on the pool's threads. The
+/// same bench at 128 x 128: parts of 1 024 took 0.18–0.24 ms against 0.26–0.27 for parts
+/// of 4 096.
 const SMALLEST_PART: usize = 1024;
 
 /// A cloth's vertex data and the buffers behind it.

@@ -1427,10 +1427,11 @@ impl Factors<'_> {
 /// one, always stepped on one thread, is one band. A lane is a band's rows long and costs a
 /// fixed amount to set up: on a 32 x 32 grid, bands of 8 rows made lanes of 64 springs and
 /// the set-up a sixth of the spring pass (one band: 7.01 → 6.36 G instructions over `stress
-/// --default-only --sizes 32`; 0.229 → 0.192 ms a frame, medians of five alternated runs).
-/// On one thread one band was no slower at 64 x 64 and 88 x 88 than bands of a thousand
-/// slots that stay in the first-level cache. Which springs are projected together depends
-/// on the grid's size, never on the number of threads.
+/// --default-only --sizes 32`; in time, ten alternated runs gave medians of 0.220 and
+/// 0.209 ms a frame, within the 2-core machine's run-to-run noise). On one thread one band
+/// was no slower at 64 x 64 and 88 x 88 than bands of a thousand slots that stay in the
+/// first-level cache. Which springs are projected together depends on the grid's size,
+/// never on the number of threads.
 fn band_rows(slots: GridSlots) -> u32 {
     if slots.len() >= PARALLEL_SLOTS {
         BAND_ROWS
