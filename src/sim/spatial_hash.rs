@@ -145,8 +145,8 @@ impl SpatialHash {
     }
 
     fn cell_of(&self, p: Vec3) -> IVec3 {
-        // Saturating float-to-int casts keep far-away points finite cells.
-        (p / self.cell_size).floor().as_ivec3()
+        let q = p / self.cell_size;
+        IVec3::new(floor_to_int(q.x), floor_to_int(q.y), floor_to_int(q.z))
     }
 
     fn bucket_of(&self, cell: IVec3) -> u32 {
@@ -160,9 +160,51 @@ impl SpatialHash {
     }
 }
 
+/// `q.floor() as i32` without a call to the C library's `floorf` (x86-64's baseline has no
+/// rounding instruction): the saturating cast truncates toward zero, one less for a negative
+/// fraction. Saturates at the ends of `i32` as the cast does, so far-away points get finite
+/// cells; NaN gives 0.
+#[inline]
+fn floor_to_int(q: f32) -> i32 {
+    let t = q as i32;
+    t.saturating_sub(i32::from(t as f32 > q))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn floor_to_int_is_the_floor_cast() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            -1.0e-30,
+            2.999_999_8,
+            -2.999_999_8,
+            16_777_217.0,
+            -16_777_217.0,
+            2.0e9,
+            -2.0e9,
+            3.0e9,
+            -3.0e9,
+            1.0e30,
+            -1.0e30,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ];
+        values.extend((-2000..2000).map(|i| i as f32 * 0.37));
+        for q in values {
+            assert_eq!(floor_to_int(q), q.floor() as i32, "{q}");
+        }
+    }
 
     #[test]
     fn finds_exactly_the_points_a_brute_force_search_finds() {
