@@ -14,23 +14,24 @@ use rand::{Rng, RngExt};
 /// Number of plane waves in the field.
 pub const TURBULENCE_MODES: usize = 6;
 
-/// One plane wave of the vector potential.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Mode {
-    /// Wave vector, rad/m.
-    wave: Vec3,
-    /// `wave × direction`, scaled so the field has unit RMS speed.
-    velocity: Vec3,
-    /// Angular frequency, rad/s.
-    frequency: f32,
-    /// Phase, rad.
-    phase: f32,
-}
+/// Lanes the modes are evaluated in at once: the modes and two empty ones, so the angles and
+/// cosines of a point are one 8-wide loop the compiler turns into SIMD instructions.
+const LANES: usize = 8;
 
 /// A divergence-free velocity field of unit RMS speed (scale it by the speed you want).
+///
+/// The plane waves are stored by component, each array padded with empty modes (zero wave
+/// and velocity) to [`LANES`] entries.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Turbulence {
-    modes: [Mode; TURBULENCE_MODES],
+    /// Wave vectors by component, rad/m.
+    wave: [[f32; LANES]; 3],
+    /// `wave × direction` by component, scaled so the field has unit RMS speed.
+    velocity: [[f32; LANES]; 3],
+    /// Angular frequencies, rad/s.
+    frequency: [f32; LANES],
+    /// Phases, rad.
+    phase: [f32; LANES],
 }
 
 impl Turbulence {
@@ -52,30 +53,78 @@ impl Turbulence {
         // cos² averages 1/2 over space, and a random direction's component across k has
         // mean square 2/3: scale so Σ E[|u|²] = 1.
         let norm = (3.0 / TURBULENCE_MODES as f32).sqrt();
-        let modes = core::array::from_fn(|_| {
+        let mut field = Self {
+            wave: [[0.0; LANES]; 3],
+            velocity: [[0.0; LANES]; 3],
+            frequency: [0.0; LANES],
+            phase: [0.0; LANES],
+        };
+        for j in 0..TURBULENCE_MODES {
             let direction_k = random_unit(rng);
             let wave = direction_k * base * rng.random_range(0.7..1.4);
             let direction = random_unit(rng);
-            Mode {
-                wave,
-                velocity: direction_k.cross(direction) * norm,
-                frequency: rate * rng.random_range(0.5..1.5),
-                phase: rng.random_range(0.0..core::f32::consts::TAU),
+            let velocity = direction_k.cross(direction) * norm;
+            for axis in 0..3 {
+                field.wave[axis][j] = wave[axis];
+                field.velocity[axis][j] = velocity[axis];
             }
-        });
-        Self { modes }
+            field.frequency[j] = rate * rng.random_range(0.5..1.5);
+            field.phase[j] = rng.random_range(0.0..core::f32::consts::TAU);
+        }
+        field
     }
 
     /// Air velocity at `position` (m) and `time` (s), m/s for a unit-speed field.
     #[inline]
     pub fn velocity(&self, position: Vec3, time: f32) -> Vec3 {
-        let mut velocity = Vec3::ZERO;
-        for mode in &self.modes {
-            let angle = mode.wave.dot(position) + mode.frequency * time + mode.phase;
-            velocity += mode.velocity * angle.cos();
-        }
-        velocity
+        let [kx, ky, kz] = &self.wave;
+        let angles: [f32; LANES] = core::array::from_fn(|j| {
+            kx[j] * position.x
+                + ky[j] * position.y
+                + kz[j] * position.z
+                + (self.frequency[j] * time + self.phase[j])
+        });
+        let cosines = cosines(angles);
+        let component = |v: &[f32; LANES]| (0..LANES).map(|j| v[j] * cosines[j]).sum::<f32>();
+        let [vx, vy, vz] = &self.velocity;
+        Vec3::new(component(vx), component(vy), component(vz))
     }
+}
+
+/// `cos` of eight angles (rad) at once: within 2.2e-7 of the exact cosine of the f32 angle
+/// up to |x| = 1e4 rad, 1.7e-5 at 1e5 (where f32 angles are 8e-3 rad apart), and in
+/// `[−1, 1]` for any finite input. One loop of plain arithmetic the compiler vectorises,
+/// where the C library's `cosf` is a call per angle (six a smoke particle a frame).
+///
+/// `cos` is even, so `|x|` is reduced by whole turns (Cody–Waite: `2π` split in two parts so
+/// the product with the turn count is exact) to `r` in `[0, π]`, and `cos r = −sin(r − π/2)`
+/// with the sine's Taylor polynomial to degree 11 on `[−π/2, π/2]` (truncation below 6e-8).
+/// Turns are rounded with the `1.5 × 2²³` trick, since x86-64's baseline has no rounding
+/// instruction; past `2²²` turns the reduced angle is clamped into range.
+#[inline(always)]
+fn cosines(x: [f32; LANES]) -> [f32; LANES] {
+    const ROUND: f32 = 12_582_912.0; // 1.5 × 2²³
+    // 2π = TURN_HIGH + TURN_LOW, TURN_HIGH with 8 significant bits so that `n × TURN_HIGH`
+    // is exact for every n below 2¹⁶.
+    const TURN_HIGH: f32 = 6.281_25;
+    const TURN_LOW: f32 = 1.935_307_2e-3;
+    const INVERSE_TURN: f32 = 1.0 / core::f32::consts::TAU;
+    core::array::from_fn(|l| {
+        let a = x[l].abs();
+        let turns = (a * INVERSE_TURN + ROUND) - ROUND;
+        let r = ((a - turns * TURN_HIGH) - turns * TURN_LOW)
+            .abs()
+            .min(core::f32::consts::PI);
+        let s = r - core::f32::consts::FRAC_PI_2;
+        let s2 = s * s;
+        let sine = s
+            * (1.0
+                + s2 * (-1.0 / 6.0
+                    + s2 * (1.0 / 120.0
+                        + s2 * (-1.0 / 5040.0
+                            + s2 * (1.0 / 362_880.0 + s2 * (-1.0 / 39_916_800.0))))));
+        -sine
+    })
 }
 
 /// A direction drawn uniformly from the unit sphere.
@@ -154,6 +203,41 @@ mod tests {
             (0.6..1.5).contains(&mean_square),
             "mean square {mean_square}"
         );
+    }
+
+    /// The eight-wide cosine against the C library's, over the angles smoke meets (points
+    /// metres from the origin at eddy wavenumbers, phases, an hour of time) and far past them.
+    #[test]
+    fn cosines_match_the_library_cosine() {
+        let mut worst: f32 = 0.0;
+        for i in 0..20_000 {
+            let x = (i as f32 - 10_000.0) * 0.013_7;
+            let angles: [f32; LANES] = core::array::from_fn(|l| x * (1.0 + l as f32 * 7.3));
+            let got = cosines(angles);
+            for (angle, c) in angles.iter().zip(got) {
+                let error = (c - angle.cos()).abs();
+                // Where f32 spaces angles 2e-7 rad or more apart the exact cosine of the
+                // stored angle and ours differ by the reduction's round-off, a few ulp of x.
+                let allowed = 4e-7 + 4.0 * f32::EPSILON * angle.abs();
+                assert!(error <= allowed, "cos({angle}) = {} got {c}", angle.cos());
+                worst = worst.max(error);
+            }
+        }
+        assert!(worst < 1e-4, "worst {worst}");
+        let extremes = [
+            1e30,
+            -1e30,
+            f32::MAX,
+            1e8,
+            3.0e7,
+            0.0,
+            -0.0,
+            f32::MIN_POSITIVE,
+        ];
+        let padded: [f32; LANES] = core::array::from_fn(|l| extremes[l]);
+        for c in cosines(padded) {
+            assert!((-1.0..=1.0).contains(&c), "{c}");
+        }
     }
 
     #[test]
