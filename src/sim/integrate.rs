@@ -334,12 +334,22 @@ pub fn stable_time_step(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::sim::{BurnState, SpringKind};
 
-    /// One free particle of mass 1 kg on a spring to a pinned particle, no gravity.
+    /// One free particle of mass 1 kg on a structural spring to a pinned particle, no gravity.
     fn oscillator(k: f32, x0: f32) -> (Particles, Springs, ForceParams) {
+        spring_to_pin(SpringKind::Structural, k, x0)
+    }
+
+    /// One free particle of mass 1 kg, `x0` m past the rest length of a spring of `kind`
+    /// (`k` N/m, rest 1 m, undamped) to a pinned particle at the origin, no gravity.
+    pub(crate) fn spring_to_pin(
+        kind: SpringKind,
+        k: f32,
+        x0: f32,
+    ) -> (Particles, Springs, ForceParams) {
         let particles = Particles {
             position: vec![Vec3::ZERO, Vec3::new(1.0 + x0, 0.0, 0.0)],
             velocity: vec![Vec3::ZERO; 2],
@@ -351,7 +361,7 @@ mod tests {
             external_force: vec![Vec3::ZERO; 2],
         };
         let mut springs = Springs::default();
-        springs.push(0, 1, 1.0, SpringKind::Structural);
+        springs.push(0, 1, 1.0, kind);
         let params = ForceParams {
             gravity: Vec3::ZERO,
             coefficients: SpringCoefficients {

@@ -1563,33 +1563,13 @@ fn grid_layout(grid: GridShape, springs: &Springs, particles: usize) -> Option<L
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::particles::BurnState;
-    use glam::Vec3;
+    use crate::sim::integrate::tests::spring_to_pin;
 
     /// Largest gap over 1 s between a 1 kg particle on a 100 N/m spring of `kind` to a pin
     /// (ω = 10 rad/s, released 0.1 m from rest, no gravity, no damping) and the exact
     /// `0.1 cos ω t`, stepped in frames of `substeps` substeps of `h`.
     fn oscillator_error(kind: SpringKind, h: f32, substeps: u32) -> f32 {
-        let mut particles = Particles {
-            position: vec![Vec3::ZERO, Vec3::new(1.1, 0.0, 0.0)],
-            velocity: vec![Vec3::ZERO; 2],
-            mass: vec![1.0; 2],
-            inv_mass: vec![0.0, 1.0],
-            temperature: vec![20.0; 2],
-            state: vec![BurnState::Intact; 2],
-            anchor: vec![Vec3::ZERO, Vec3::X],
-            external_force: vec![Vec3::ZERO; 2],
-        };
-        let mut springs = Springs::default();
-        springs.push(0, 1, 1.0, kind);
-        let params = ForceParams {
-            gravity: Vec3::ZERO,
-            coefficients: SpringCoefficients {
-                stiffness: [100.0; 3],
-                damping: [0.0; 3],
-            },
-            ..Default::default()
-        };
+        let (mut particles, springs, params) = spring_to_pin(kind, 100.0, 0.1);
         let around = Surroundings {
             params: &params,
             colliders: &[],
