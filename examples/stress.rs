@@ -9,7 +9,8 @@
 //! `-- --physical-heat-only`: the same under `HeatModel::PHYSICAL` (its flame front);
 //! `--sizes 32 64`: only those sizes in the size table, or plume grids with `--plume-only`
 //! (for profiling one);
-//! `-- --many-only`: the twenty-cloth scene alone; `-- --plume-only` (with `fluid`): the plume's
+//! `-- --many-only`: the twenty-cloth scene alone; `-- --smoke-only` (with `smoke`): the smoke
+//! pool's table alone; `-- --plume-only` (with `fluid`): the plume's
 //! tables alone (its cost by grid size, and its pull on cloths by size).
 //!
 //! Each run: a cotton cloth 1.5 m wide, pinned at every 4th particle of its top edge, lit at the
@@ -551,6 +552,11 @@ fn main() {
     }
     if std::env::args().any(|a| a == "--many-only") {
         many_cloths_table();
+        return;
+    }
+    if std::env::args().any(|a| a == "--smoke-only") {
+        #[cfg(feature = "smoke")]
+        smoke_table();
         return;
     }
     if std::env::args().any(|a| a == "--default-only") {
