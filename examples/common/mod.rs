@@ -195,9 +195,14 @@ fn finish_check_run(
     mut commands: Commands,
     check: Res<CheckRun>,
     verdict: Option<Res<PixelVerdict>>,
+    time: Res<Time<Virtual>>,
     mut frame: Local<u32>,
     mut exit: MessageWriter<AppExit>,
 ) {
+    // Frames count while the clock runs (an example may hold it until its scene is ready).
+    if time.is_paused() {
+        return;
+    }
     *frame += 1;
     if *frame == check.frames {
         info!("check run: saving {}", check.screenshot);
