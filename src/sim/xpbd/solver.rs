@@ -47,11 +47,12 @@ enum Layout {
     #[default]
     Unset,
     /// A grid: particles in quarter grids, springs in lanes; element `e` of the lanes stands
-    /// for spring `spring[e]` ([`PHANTOM`] for none).
+    /// for spring `spring[e]` ([`PHANTOM`] for none), and spring `s` is element `element[s]`.
     Grid {
         slots: GridSlots,
         lanes: GridLanes,
         spring: Vec<u32>,
+        element: Vec<u32>,
     },
     /// Springs in their stored order, ends by index (meshes, hand-made springs): element `e`
     /// is spring `e`, slot `i` is particle `i`.
@@ -130,6 +131,9 @@ pub struct XpbdSolver {
     rest: Vec<f32>,
     ca: Vec<f32>,
     cb: Vec<f32>,
+    /// A grid's rest lengths as last copied into `rest`, m, in spring order: a frame copies
+    /// only the springs whose length changed since.
+    seen_rest: Vec<f32>,
     /// Damping factor `γ = c / (k h)` per spring kind.
     gamma: [f32; 3],
     factors_for: Option<FactorKey>,
@@ -266,15 +270,20 @@ impl SlotArrays {
 impl XpbdSolver {
     /// Heap memory held, bytes (capacity, not length).
     pub fn heap_bytes(&self) -> usize {
-        let floats = [&self.w, &self.rest, &self.ca, &self.cb]
+        let floats = [&self.w, &self.rest, &self.ca, &self.cb, &self.seen_rest]
             .iter()
             .map(|a| a.capacity())
             .sum::<usize>();
         let layout = match &self.layout {
-            Layout::Grid { lanes, spring, .. } => {
+            Layout::Grid {
+                lanes,
+                spring,
+                element,
+                ..
+            } => {
                 lanes.lanes.capacity() * size_of::<Lane>()
                     + lanes.bands.capacity() * size_of::<Band>()
-                    + spring.capacity() * size_of::<u32>()
+                    + (spring.capacity() + element.capacity()) * size_of::<u32>()
             }
             _ => 0,
         };
@@ -309,6 +318,7 @@ impl XpbdSolver {
                 slots,
                 lanes,
                 spring,
+                ..
             } => {
                 let columns = grid.map_or(1, |g| g.columns);
                 self.slot
@@ -338,6 +348,14 @@ impl XpbdSolver {
         for array in [&mut self.rest, &mut self.ca, &mut self.cb] {
             array.clear();
             array.resize(elements, 0.0);
+        }
+        self.seen_rest.clear();
+        if let Layout::Grid { spring, .. } = &self.layout {
+            self.seen_rest.extend_from_slice(&springs.rest_length);
+            for (rest, &s) in self.rest.iter_mut().zip(spring) {
+                // `PHANTOM` is past every spring: one test for both.
+                *rest = springs.rest_length.get(s as usize).copied().unwrap_or(0.0);
+            }
         }
         self.dirty.clear();
         self.dirty.reserve(n);
@@ -474,17 +492,13 @@ impl XpbdSolver {
         for_each_part(pool, self.slots.parts(parts), |mut chunk| {
             chunk.read(particles, w, constant, frame)
         });
-        if let Layout::Grid { spring, .. } = &self.layout {
-            let lengths = &springs.rest_length;
-            let parts = parts_for(pool, spring.len(), 8192);
-            let size = spring.len().div_ceil(parts);
-            let work = pieces(&mut self.rest, parts).zip(spring.chunks(size));
-            for_each_part(pool, work, |(rest, spring)| {
-                for (rest, &s) in rest.iter_mut().zip(spring) {
-                    // `PHANTOM` is past every spring: one test for both.
-                    *rest = lengths.get(s as usize).copied().unwrap_or(0.0);
-                }
-            });
+        if let Layout::Grid { element, .. } = &self.layout {
+            copy_changed_lengths(
+                &springs.rest_length,
+                &mut self.seen_rest,
+                element,
+                &mut self.rest,
+            );
         }
         PinNews {
             changed: pins_changed,
@@ -1553,11 +1567,64 @@ fn grid_layout(grid: GridShape, springs: &Springs, particles: usize) -> Option<L
             matched += 1;
         }
     }
-    (matched == springs.len()).then_some(Layout::Grid {
+    if matched != springs.len() {
+        return None;
+    }
+    // Each spring matched once (the count is equal, so none twice unless one is missing).
+    let mut element = vec![PHANTOM; springs.len()];
+    for (e, &s) in spring.iter().enumerate() {
+        if let Some(slot) = element.get_mut(s as usize) {
+            if *slot != PHANTOM {
+                return None;
+            }
+            *slot = e as u32;
+        }
+    }
+    Some(Layout::Grid {
         slots,
         lanes,
         spring,
+        element,
     })
+}
+
+/// Springs compared at a time by [`copy_changed_lengths`]: a chunk whose lengths all match
+/// is passed over in one vector compare.
+const LENGTH_CHUNK: usize = 16;
+
+/// Copies into `rest` (by element, spring `s` at `element[s]`) the lengths of `lengths` that
+/// differ from `seen` in their bits, and records them in `seen`. Most frames shrink a few
+/// hundred springs along the fire, or none: a grid's rest lengths cost a vector compare per
+/// [`LENGTH_CHUNK`] springs, and a copy of the chunks that changed, not a scattered copy of
+/// every spring.
+fn copy_changed_lengths(lengths: &[f32], seen: &mut [f32], element: &[u32], rest: &mut [f32]) {
+    let n = lengths.len().min(seen.len()).min(element.len());
+    let (lengths, seen, element) = (&lengths[..n], &mut seen[..n], &element[..n]);
+    let whole = n - n % LENGTH_CHUNK;
+    let mut copy = |lengths: &[f32], seen: &mut [f32], element: &[u32]| {
+        seen.copy_from_slice(lengths);
+        for (&length, &e) in lengths.iter().zip(element) {
+            if let Some(rest) = rest.get_mut(e as usize) {
+                *rest = length;
+            }
+        }
+    };
+    for ((lengths, seen), element) in lengths[..whole]
+        .chunks_exact(LENGTH_CHUNK)
+        .zip(seen[..whole].chunks_exact_mut(LENGTH_CHUNK))
+        .zip(element[..whole].chunks_exact(LENGTH_CHUNK))
+    {
+        let (now, then): (&[f32; LENGTH_CHUNK], &[f32; LENGTH_CHUNK]) =
+            (lengths.try_into().unwrap(), (&*seen).try_into().unwrap());
+        let mut differ = 0;
+        for k in 0..LENGTH_CHUNK {
+            differ |= now[k].to_bits() ^ then[k].to_bits();
+        }
+        if differ != 0 {
+            copy(lengths, seen, element);
+        }
+    }
+    copy(&lengths[whole..], &mut seen[whole..], &element[whole..]);
 }
 
 #[cfg(test)]
@@ -1589,6 +1656,78 @@ mod tests {
             worst = worst.max((particles.position[1].x - 1.0 - exact).abs());
         }
         worst
+    }
+
+    /// A grid's rest lengths reach the solver when they change between frames (heat shrinks a
+    /// few, or a game sets one): after a change, a solver that copies only the changed
+    /// lengths steps to the same bits as one built afresh on the same state, and the change
+    /// shows (a shortened spring pulls its ends together).
+    #[test]
+    fn a_changed_rest_length_steps_as_a_fresh_solver_would() {
+        use crate::sim::ClothBuilder;
+        use crate::sim::material::BurnMaterial;
+        let parts = ClothBuilder::grid(9, 7, 0.05)
+            .pin_top_edge()
+            .build(&BurnMaterial::COTTON, glam::Affine3A::IDENTITY)
+            .unwrap();
+        let (mut particles, mut springs) = (parts.particles, parts.springs);
+        let grid = parts.topology.grid;
+        assert!(grid.is_some());
+        let params = ForceParams {
+            coefficients: SpringCoefficients::from_material(
+                &BurnMaterial::COTTON,
+                parts.topology.particle_mass,
+            ),
+            ..ForceParams::default()
+        };
+        let around = Surroundings {
+            params: &params,
+            colliders: &[],
+            margin: 0.0,
+            guard: GuardSettings::default(),
+            tethers: None,
+            stretch_limit: None,
+            pool: None,
+        };
+        let (h, substeps) = (1.0 / 600.0, 10);
+        let mut kept = XpbdSolver::default();
+        for _ in 0..20 {
+            kept.advance(&mut particles, &springs, grid, &around, h, substeps);
+        }
+        assert!(matches!(kept.layout, Layout::Grid { .. }), "a grid layout");
+        // Shorten every structural spring in the middle column by 30 %, as heat would.
+        let middle = |i: u32| i % 9 == 4;
+        let mut changed = 0;
+        for s in 0..springs.len() {
+            let (a, b) = (springs.a[s], springs.b[s]);
+            if springs.kind[s] == SpringKind::Structural && middle(a) && middle(b) {
+                springs.rest_length[s] *= 0.7;
+                changed += 1;
+            }
+        }
+        assert_eq!(changed, 6);
+        let mut fresh_particles = particles.clone();
+        let mut fresh = XpbdSolver::default();
+        for _ in 0..10 {
+            kept.advance(&mut particles, &springs, grid, &around, h, substeps);
+            fresh.advance(&mut fresh_particles, &springs, grid, &around, h, substeps);
+        }
+        let bits = |p: &Particles| -> Vec<[u32; 3]> {
+            p.position
+                .iter()
+                .map(|x| x.to_array().map(f32::to_bits))
+                .collect()
+        };
+        assert_eq!(bits(&particles), bits(&fresh_particles));
+        // The column pulled up: its bottom particle is higher than its neighbours'.
+        let bottom = 6 * 9;
+        let y = |i: usize| particles.position[i].y;
+        assert!(
+            y(bottom + 4) > y(bottom + 2) + 0.01,
+            "{} {}",
+            y(bottom + 4),
+            y(bottom + 2)
+        );
     }
 
     /// A bending spring projected every other substep with the compliance of the two
