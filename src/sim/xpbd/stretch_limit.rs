@@ -43,8 +43,11 @@ pub(super) struct Rows<'a> {
 #[derive(Clone, Debug, Default)]
 struct GridPlaces {
     slots: Option<GridSlots>,
-    columns: u32,
     band_of_row: Vec<u32>,
+    /// By particle: its row, and its slot packed (quarter grid, and index from the quarter
+    /// grid's first row), so placing a spring takes no division.
+    row_of: Vec<u32>,
+    home: Vec<u32>,
     /// Each band's first row and the end of its reach.
     reach: Vec<(u32, u32)>,
 }
@@ -72,10 +75,18 @@ impl LimitedSprings {
                 for (b, band) in lanes.bands.iter().enumerate() {
                     band_of_row.extend(band.rows.clone().map(|_| b as u32));
                 }
+                let particles = 0..columns * slots.rows();
+                let cell = move |i: u32| (i % columns, i / columns);
                 GridPlaces {
                     slots: Some(slots),
-                    columns,
                     band_of_row,
+                    row_of: particles.clone().map(|i| cell(i).1).collect(),
+                    home: particles
+                        .map(|i| {
+                            let (column, row) = cell(i);
+                            (column % 4) << INDEX_BITS | (row * slots.width() + column / 4)
+                        })
+                        .collect(),
                     reach: lanes
                         .bands
                         .iter()
@@ -122,7 +133,11 @@ impl LimitedSprings {
     pub fn heap_bytes(&self) -> usize {
         self.springs.capacity() * size_of::<LimitedSpring>()
             + self.gathered.capacity() * size_of::<(u32, LimitedSpring)>()
-            + (self.start.capacity() + self.next.capacity() + self.places.band_of_row.capacity())
+            + (self.start.capacity()
+                + self.next.capacity()
+                + self.places.band_of_row.capacity()
+                + self.places.row_of.capacity()
+                + self.places.home.capacity())
                 * size_of::<u32>()
             + self.places.reach.capacity() * size_of::<(u32, u32)>()
     }
@@ -198,11 +213,11 @@ impl LimitedSprings {
 impl GridPlaces {
     /// The bucket of the spring joining particles `i` and `j`, and its two ends packed.
     fn place(&self, i: u32, j: u32, slot: &[u32]) -> (u32, [u32; 2]) {
-        let (si, sj) = (slot[i as usize], slot[j as usize]);
+        let (i, j) = (i as usize, j as usize);
         let Some(slots) = self.slots else {
-            return (0, [si, sj]);
+            return (0, [slot[i], slot[j]]);
         };
-        let (ri, rj) = (i / self.columns, j / self.columns);
+        let (ri, rj) = (self.row_of[i], self.row_of[j]);
         let band = self.band_of_row[ri.min(rj) as usize];
         let (first, end) = self.reach[band as usize];
         let (bucket, first) = if ri.max(rj) < end {
@@ -210,9 +225,9 @@ impl GridPlaces {
         } else {
             (self.reach.len() as u32, 0)
         };
-        let quarter = slots.quarter_len();
-        let pack = |s: u32| (s / quarter) << INDEX_BITS | (s % quarter - first * slots.width());
-        (bucket, [pack(si), pack(sj)])
+        // Both ends are in the reach's rows, so the index stays at or above its first row.
+        let offset = first * slots.width();
+        (bucket, [self.home[i] - offset, self.home[j] - offset])
     }
 }
 
