@@ -115,8 +115,9 @@ pub struct XpbdSolver {
     layout: Layout,
     /// Springs and particles the layout was built for.
     built_for: (usize, usize),
-    /// Each particle's slot.
+    /// Each particle's slot, and the slots that hold no particle (a grid's padding).
     slot: Vec<u32>,
+    padding: Vec<u32>,
     /// The elements each particle is in (as an end, or the particle a bend passes over).
     adjacency: Adjacency,
     /// Per slot: positions at the start of the substep (m), velocities (m/s), displacement
@@ -289,6 +290,7 @@ impl XpbdSolver {
         };
         (floats
             + self.slot.capacity()
+            + self.padding.capacity()
             + self.dirty.capacity()
             + self.pin_slots.capacity()
             + self.pin_index.capacity()
@@ -338,6 +340,9 @@ impl XpbdSolver {
         for (i, &slot) in self.slot.iter().enumerate() {
             self.slots.particle[slot as usize] = i as u32;
         }
+        self.padding.clear();
+        self.padding
+            .extend((0..slots as u32).filter(|&s| self.slots.particle[s as usize] == PHANTOM));
         self.w.clear();
         self.w.resize(n, f32::NAN);
         let grid_lanes = match (&self.layout, grid) {
@@ -492,6 +497,17 @@ impl XpbdSolver {
         for_each_part(pool, self.slots.parts(parts), |mut chunk| {
             chunk.read(particles, w, constant, frame)
         });
+        // Padding back to rest at the origin: a NaN that reached it in a blown-up frame
+        // through a phantom element (whose factors are zero, and zero times NaN is NaN)
+        // would otherwise stay, and come back through the same element every frame after.
+        let SlotArrays {
+            x, v, acceleration, ..
+        } = &mut self.slots;
+        for array in x.iter_mut().chain(v).chain(acceleration) {
+            for &s in &self.padding {
+                array[s as usize] = 0.0;
+            }
+        }
         if let Layout::Grid { element, .. } = &self.layout {
             copy_changed_lengths(
                 &springs.rest_length,
@@ -832,6 +848,10 @@ impl XpbdSolver {
         let repaired = AtomicU32::new(0);
         let max_speed_squared = guard.max_speed * guard.max_speed;
         let SlotArrays { x, v, free, .. } = &self.slots;
+        // One pass in slot order, which vectorises, says whether the guard has anything to
+        // put back; almost every frame it has not, and the copy then tests nothing per
+        // particle.
+        let check = guard.enabled && any_blown(x, v, free, max_speed_squared);
         let n = particles.len();
         let parts = parts_for(pool, n, 2048);
         let size = n.div_ceil(parts);
@@ -854,10 +874,11 @@ impl XpbdSolver {
                 }
                 let new_position = glam::Vec3::new(x0[s], x1[s], x2[s]);
                 let new_velocity = glam::Vec3::new(v0[s], v1[s], v2[s]);
-                let blown = !(new_position.is_finite()
-                    && new_velocity.is_finite()
-                    && new_velocity.length_squared() <= max_speed_squared);
-                if guard.enabled && blown {
+                if check
+                    && !(new_position.is_finite()
+                        && new_velocity.is_finite()
+                        && new_velocity.length_squared() <= max_speed_squared)
+                {
                     *vel = glam::Vec3::ZERO;
                     put_back += 1;
                 } else {
@@ -1588,6 +1609,29 @@ fn grid_layout(grid: GridShape, springs: &Springs, particles: usize) -> Option<L
     })
 }
 
+/// Whether any free slot's position or velocity is not finite, or its speed squared is past
+/// `max_speed_squared` (m²/s²): what the blow-up guard puts back. Branch-free over the slots
+/// so it vectorises. It may say yes when the guard puts nothing back (a finite velocity
+/// whose square overflows), never no when it puts something back: its answer only decides
+/// whether each particle is tested.
+fn any_blown(x: &[Vec<f32>; 3], v: &[Vec<f32>; 3], free: &[f32], max_speed_squared: f32) -> bool {
+    let n = free.len();
+    let (x0, x1, x2) = (&x[0][..n], &x[1][..n], &x[2][..n]);
+    let (v0, v1, v2) = (&v[0][..n], &v[1][..n], &v[2][..n]);
+    let mut blown = 0u32;
+    for s in 0..n {
+        // `< ∞` is false for NaN and infinities: an infinite or NaN velocity makes the
+        // speed squared infinite or NaN.
+        let finite = (x0[s].abs() < f32::INFINITY)
+            & (x1[s].abs() < f32::INFINITY)
+            & (x2[s].abs() < f32::INFINITY);
+        let speed = v0[s] * v0[s] + v1[s] * v1[s] + v2[s] * v2[s];
+        let ok = finite & (speed < f32::INFINITY) & (speed <= max_speed_squared);
+        blown += u32::from(!ok & (free[s] != 0.0));
+    }
+    blown > 0
+}
+
 /// Springs compared at a time by [`copy_changed_lengths`]: a chunk whose lengths all match
 /// is passed over in one vector compare.
 const LENGTH_CHUNK: usize = 16;
@@ -1662,17 +1706,15 @@ mod tests {
     /// few, or a game sets one): after a change, a solver that copies only the changed
     /// lengths steps to the same bits as one built afresh on the same state, and the change
     /// shows (a shortened spring pulls its ends together).
-    #[test]
-    fn a_changed_rest_length_steps_as_a_fresh_solver_would() {
+    /// A 9 x 7 cotton grid 5 cm apart pinned along its top, its grid shape, and forces with
+    /// cotton's springs.
+    fn hanging_grid() -> (Particles, Springs, Option<GridShape>, ForceParams) {
         use crate::sim::ClothBuilder;
         use crate::sim::material::BurnMaterial;
         let parts = ClothBuilder::grid(9, 7, 0.05)
             .pin_top_edge()
             .build(&BurnMaterial::COTTON, glam::Affine3A::IDENTITY)
             .unwrap();
-        let (mut particles, mut springs) = (parts.particles, parts.springs);
-        let grid = parts.topology.grid;
-        assert!(grid.is_some());
         let params = ForceParams {
             coefficients: SpringCoefficients::from_material(
                 &BurnMaterial::COTTON,
@@ -1680,15 +1722,60 @@ mod tests {
             ),
             ..ForceParams::default()
         };
-        let around = Surroundings {
-            params: &params,
+        let grid = parts.topology.grid;
+        assert!(grid.is_some());
+        (parts.particles, parts.springs, grid, params)
+    }
+
+    fn still_air(params: &ForceParams) -> Surroundings<'_> {
+        Surroundings {
+            params,
             colliders: &[],
             margin: 0.0,
             guard: GuardSettings::default(),
             tethers: None,
             stretch_limit: None,
             pool: None,
-        };
+        }
+    }
+
+    /// A particle whose velocity went NaN is put back where it was, at rest, and counted
+    /// (with the neighbours its NaN reached through their springs within the frame); no NaN
+    /// is left, and the cloth carries on from there.
+    #[test]
+    fn the_guard_puts_back_a_blown_particle_and_the_cloth_carries_on() {
+        let (mut particles, springs, grid, params) = hanging_grid();
+        let around = still_air(&params);
+        let mut solver = XpbdSolver::default();
+        let (h, substeps) = (1.0 / 360.0, 6);
+        solver.advance(&mut particles, &springs, grid, &around, h, substeps);
+        let blown = 40;
+        particles.velocity[blown] = glam::Vec3::new(f32::NAN, 0.0, 0.0);
+        let before = particles.position.clone();
+        let (put_back, _) = solver.advance(&mut particles, &springs, grid, &around, h, substeps);
+        assert!(put_back >= 1, "{put_back}");
+        assert_eq!(particles.position[blown], before[blown]);
+        assert_eq!(particles.velocity[blown], glam::Vec3::ZERO);
+        assert!(particles.position.iter().all(|p| p.is_finite()));
+        assert!(particles.velocity.iter().all(|v| v.is_finite()));
+        // The next frames carry on, moving the cloth and putting nothing back.
+        for _ in 0..5 {
+            let before = particles.position.clone();
+            let (put_back, _) =
+                solver.advance(&mut particles, &springs, grid, &around, h, substeps);
+            assert_eq!(put_back, 0);
+            assert_ne!(particles.position, before);
+        }
+    }
+
+    /// A grid's rest lengths reach the solver when they change between frames (heat shrinks a
+    /// few, or a game sets one): after a change, a solver that copies only the changed
+    /// lengths steps to the same bits as one built afresh on the same state, and the change
+    /// shows (a shortened spring pulls its ends together).
+    #[test]
+    fn a_changed_rest_length_steps_as_a_fresh_solver_would() {
+        let (mut particles, mut springs, grid, params) = hanging_grid();
+        let around = still_air(&params);
         let (h, substeps) = (1.0 / 600.0, 10);
         let mut kept = XpbdSolver::default();
         for _ in 0..20 {
