@@ -1681,15 +1681,7 @@ mod tests {
     /// `0.1 cos ω t`, stepped in frames of `substeps` substeps of `h`.
     fn oscillator_error(kind: SpringKind, h: f32, substeps: u32) -> f32 {
         let (mut particles, springs, params) = spring_to_pin(kind, 100.0, 0.1);
-        let around = Surroundings {
-            params: &params,
-            colliders: &[],
-            margin: 0.0,
-            guard: GuardSettings::default(),
-            tethers: None,
-            stretch_limit: None,
-            pool: None,
-        };
+        let around = still_air(&params);
         let mut solver = XpbdSolver::default();
         let frame = h * substeps as f32;
         let frames = (1.0 / frame).round() as u32;
@@ -1727,6 +1719,8 @@ mod tests {
         (parts.particles, parts.springs, grid, params)
     }
 
+    /// A cloth's surroundings with nothing in them: no collider, tether, stretch limit or
+    /// pool, the default guard.
     fn still_air(params: &ForceParams) -> Surroundings<'_> {
         Surroundings {
             params,
