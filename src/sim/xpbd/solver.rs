@@ -1694,10 +1694,6 @@ mod tests {
         worst
     }
 
-    /// A grid's rest lengths reach the solver when they change between frames (heat shrinks a
-    /// few, or a game sets one): after a change, a solver that copies only the changed
-    /// lengths steps to the same bits as one built afresh on the same state, and the change
-    /// shows (a shortened spring pulls its ends together).
     /// A 9 x 7 cotton grid 5 cm apart pinned along its top, its grid shape, and forces with
     /// cotton's springs.
     fn hanging_grid() -> (Particles, Springs, Option<GridShape>, ForceParams) {

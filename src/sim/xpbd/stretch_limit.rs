@@ -76,15 +76,15 @@ impl LimitedSprings {
                     band_of_row.extend(band.rows.clone().map(|_| b as u32));
                 }
                 let particles = 0..columns * slots.rows();
-                let cell = move |i: u32| (i % columns, i / columns);
+                let quarter = slots.quarter_len();
                 GridPlaces {
                     slots: Some(slots),
                     band_of_row,
-                    row_of: particles.clone().map(|i| cell(i).1).collect(),
+                    row_of: particles.clone().map(|i| i / columns).collect(),
                     home: particles
                         .map(|i| {
-                            let (column, row) = cell(i);
-                            (column % 4) << INDEX_BITS | (row * slots.width() + column / 4)
+                            let s = slots.slot(i % columns, i / columns);
+                            (s / quarter) << INDEX_BITS | (s % quarter)
                         })
                         .collect(),
                     reach: lanes
