@@ -14,8 +14,10 @@
 //! tables alone (its cost by grid size, and its pull on cloths by size).
 //!
 //! Each run: a cotton cloth 1.5 m wide, pinned at every 4th particle of its top edge, lit at the
-//! bottom centre, burning for 2 s before the measured frames; the median of 5 runs (3 for the slow
-//! force-based solver) is printed. "frame" is the simulation step (heat, combustion, pieces,
+//! bottom centre, burning for 2 s before the measured frames, then measured over the next 8 s
+//! (480 frames) at every size, so every size is timed over the same stretch of its fire: what
+//! burning costs grows with the fire. The median of 5 runs (3 for the slow force-based
+//! solver) is printed, with its mean over the 8 s and its dearest second. "frame" is the simulation step (heat, combustion, pieces,
 //! dynamics, culling) plus the smoke (with feature `smoke`) plus the CPU side of the mesh update
 //! ([`MeshData::update`]: local positions, normals, burn data). Threads: Bevy's compute task pool
 //! with a thread per core (Bevy's default leaves one on a 2-core machine).
@@ -30,11 +32,17 @@ use std::time::{Duration, Instant};
 
 const DT: f32 = 1.0 / 60.0;
 
-/// One measured run: phase times per frame (ms), how the steps ran, and the hanging cloth's
+/// The measured window: seconds of burning timed at every size, after 2 s untimed.
+const MEASURED_SECONDS: u32 = 8;
+
+/// One measured run: phase times per frame (ms), the dearest second's mean frame (ms), the
+/// share of the cloth burnt away at the end, how the steps ran, and the hanging cloth's
 /// largest structural stretch before it was lit.
 #[derive(Clone, Copy, Default)]
 struct Run {
     phases: [f64; 7],
+    worst: f64,
+    burnt: f32,
     substeps: u32,
     integrator: Integrator,
     stretch: f32,
@@ -71,13 +79,7 @@ fn hanging(size: u32, material: BurnMaterial) -> ClothSim {
     .expect("valid cloth")
 }
 
-fn run(
-    size: u32,
-    integrator: Integrator,
-    heat_model: HeatModel,
-    frames: u32,
-    pool: &TaskPool,
-) -> Run {
+fn run(size: u32, integrator: Integrator, heat_model: HeatModel, pool: &TaskPool) -> Run {
     let mut sim = hanging(size, BurnMaterial::COTTON);
     sim.update_settings(|s| {
         s.solver.integrator = integrator;
@@ -149,12 +151,19 @@ fn run(
         stretch,
         ..Run::default()
     };
-    for _ in 0..frames {
-        frame(&mut sim, Some(&mut measured));
+    for _ in 0..MEASURED_SECONDS {
+        let before = measured.total();
+        for _ in 0..60 {
+            frame(&mut sim, Some(&mut measured));
+        }
+        measured.worst = measured.worst.max((measured.total() - before) / 60.0);
     }
+    let frames = f64::from(60 * MEASURED_SECONDS);
     for phase in &mut measured.phases {
-        *phase /= f64::from(frames);
+        *phase /= frames;
     }
+    let burnt = sim.particles.state.iter().filter(|s| s.is_burnt()).count();
+    measured.burnt = burnt as f32 / sim.particles.len() as f32;
     assert!(sim.particles.is_finite());
     measured
 }
@@ -185,17 +194,16 @@ fn sizes(default: &[u32]) -> Vec<u32> {
 
 fn size_table(pool: &TaskPool, integrators: &[Integrator], heat_model: HeatModel) {
     println!(
-        "| cloth | particles | solver chosen | ran as | substeps | ms per frame | ns per particle | heat | combustion | pieces | dynamics | culling | smoke | mesh | max stretch hanging |"
+        "| cloth | particles | solver chosen | ran as | substeps | ms per frame | dearest second | ns per particle | heat | combustion | pieces | dynamics | culling | smoke | mesh | burnt at the end | max stretch hanging |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for size in sizes(&[32, 64, 128, 256]) {
         let particles = size * size;
         for &integrator in integrators {
-            // Fewer frames and runs for the slow one, so the table takes minutes, not hours.
+            // Fewer runs for the slow one, so the table takes minutes, not hours.
             let slow = !integrator.is_unconditionally_stable();
-            let frames = (1_000_000 / particles).clamp(10, 600) / if slow { 4 } else { 1 };
             let repeats = if slow { 3 } else { 5 };
-            let runs = (0..repeats).map(|_| run(size, integrator, heat_model, frames.max(5), pool));
+            let runs = (0..repeats).map(|_| run(size, integrator, heat_model, pool));
             let run = median(runs.collect());
             let total = run.total();
             let phases: Vec<String> = run.phases.iter().map(|p| format!("{p:.3}")).collect();
@@ -205,12 +213,14 @@ fn size_table(pool: &TaskPool, integrators: &[Integrator], heat_model: HeatModel
                 ""
             };
             println!(
-                "| {size} x {size} | {particles} | {}{default} | {} | {} | {total:.3} | {:.0} | {} | {:.3} |",
+                "| {size} x {size} | {particles} | {}{default} | {} | {} | {total:.3} | {:.3} | {:.0} | {} | {:.0} % | {:.3} |",
                 integrator.name(),
                 run.integrator.name(),
                 run.substeps,
+                run.worst,
                 total * 1e6 / f64::from(particles),
                 phases.join(" | "),
+                100.0 * run.burnt,
                 run.stretch,
             );
         }

@@ -277,8 +277,16 @@ fn for_each_near_fire(
                 return;
             }
             let offset = position[j] - position[i];
-            let cos_up = offset.normalize_or_zero().dot(params.up);
-            let falloff = 1.0 - offset.length() / radius;
+            // One square root for both: what `normalize_or_zero` and `length` would give.
+            let length = offset.length();
+            let inverse = length.recip();
+            let direction = if inverse.is_finite() && inverse > 0.0 {
+                offset * inverse
+            } else {
+                Vec3::ZERO
+            };
+            let cos_up = direction.dot(params.up);
+            let falloff = 1.0 - length / radius;
             visit(workspace, i, j, direction_weight(cos_up) * falloff);
         });
     }

@@ -236,6 +236,25 @@ pub(crate) fn project_shared(
     shared_lane::<4>(x, u, a, b, data);
 }
 
+/// Lanes whose ends lie in the same arrays, each on arrays of its own (a grid's quarter
+/// grids), with the same ends `a` and `b` and the same length: what [`project_shared`] does
+/// on each in turn, to the bit, with their chunks taken in turn instead. In one such lane a
+/// chunk whose ends are less than two chunks apart waits for the one before it to be stored
+/// (on a 32-wide grid every chunk of a south lane does); chunks of separate lanes do not
+/// wait on one another, so the processor works on `L` of them at once.
+pub(crate) fn project_shared_together<const L: usize>(
+    x: [[&[f32]; 3]; L],
+    u: &mut [[&mut [f32]; 3]; L],
+    (a, b): (usize, usize),
+    data: [RunData; L],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if a.abs_diff(b) >= 8 && wide::available() {
+        return wide::project_shared_together(x, u, (a, b), data);
+    }
+    shared_lanes::<4, L>(x, u, (a, b), data);
+}
+
 /// [`project_shared`], `N` elements at a time when the ends are at least `N` apart.
 #[inline(always)]
 fn shared_lane<const N: usize>(
@@ -245,87 +264,127 @@ fn shared_lane<const N: usize>(
     b: usize,
     data: RunData,
 ) {
-    let len = data.rest.len();
-    let data = data.cut(len);
-    let end = a.max(b) + len;
-    let [x0, x1, x2] = x.map(|s| &s[..end]);
     let [u0, u1, u2] = u;
-    let (u0, u1, u2) = (&mut u0[..end], &mut u1[..end], &mut u2[..end]);
+    shared_lanes::<N, 1>(
+        [x],
+        &mut [[&mut **u0, &mut **u1, &mut **u2]],
+        (a, b),
+        [data],
+    );
+}
+
+/// [`project_shared_together`] (and, with one lane, [`project_shared`]), `N` elements at a
+/// time when the ends are at least `N` apart: every lane's first chunk, then every lane's
+/// second, and so on, then each lane's last elements one at a time.
+#[inline(always)]
+fn shared_lanes<const N: usize, const L: usize>(
+    x: [[&[f32]; 3]; L],
+    u: &mut [[&mut [f32]; 3]; L],
+    (a, b): (usize, usize),
+    data: [RunData; L],
+) {
+    let len = data[0].rest.len();
+    let data = data.map(|data| data.cut(len));
+    let end = a.max(b) + len;
+    // Every array cut to one length, so one test covers a chunk's reads.
+    let x = x.map(|x| x.map(|s| &s[..end]));
+    let mut u = u
+        .each_mut()
+        .map(|[u0, u1, u2]| [&mut u0[..end], &mut u1[..end], &mut u2[..end]]);
     let chunks = if a.abs_diff(b) >= N { len / N } else { 0 };
     for chunk in 0..chunks {
         let k = N * chunk;
-        let (ia, ib) = (a + k, b + k);
-        let (pa, pb): ([Lanes<N>; 3], [Lanes<N>; 3]) = (
-            [load(u0, ia), load(u1, ia), load(u2, ia)],
-            [load(u0, ib), load(u1, ib), load(u2, ib)],
-        );
-        let r = [
-            zip(pa[0], pb[0], |p, q| p - q),
-            zip(pa[1], pb[1], |p, q| p - q),
-            zip(pa[2], pb[2], |p, q| p - q),
-        ];
-        let e = [
-            zip(
-                zip(load(x0, ia), load(x0, ib), |p, q| p - q),
-                r[0],
-                |p, q| p + q,
-            ),
-            zip(
-                zip(load(x1, ia), load(x1, ib), |p, q| p - q),
-                r[1],
-                |p, q| p + q,
-            ),
-            zip(
-                zip(load(x2, ia), load(x2, ib), |p, q| p - q),
-                r[2],
-                |p, q| p + q,
-            ),
-        ];
-        let (sa, sb) = several(e, r, &data, k);
-        store(
-            u0,
-            ia,
-            zip(pa[0], zip(sa, e[0], |p, q| p * q), |p, q| p + q),
-        );
-        store(
-            u1,
-            ia,
-            zip(pa[1], zip(sa, e[1], |p, q| p * q), |p, q| p + q),
-        );
-        store(
-            u2,
-            ia,
-            zip(pa[2], zip(sa, e[2], |p, q| p * q), |p, q| p + q),
-        );
-        store(
-            u0,
-            ib,
-            zip(pb[0], zip(sb, e[0], |p, q| p * q), |p, q| p - q),
-        );
-        store(
-            u1,
-            ib,
-            zip(pb[1], zip(sb, e[1], |p, q| p * q), |p, q| p - q),
-        );
-        store(
-            u2,
-            ib,
-            zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
-        );
+        for lane in 0..L {
+            shared_chunk::<N>(x[lane], &mut u[lane], (a + k, b + k), &data[lane], k);
+        }
     }
-    for k in N * chunks..len {
-        let (ia, ib) = (a + k, b + k);
-        let r = [u0[ia] - u0[ib], u1[ia] - u1[ib], u2[ia] - u2[ib]];
-        let e = [
-            (x0[ia] - x0[ib]) + r[0],
-            (x1[ia] - x1[ib]) + r[1],
-            (x2[ia] - x2[ib]) + r[2],
-        ];
-        let s = multiplier(e, r, data.rest[k], data.gamma);
-        let (sa, sb) = (data.ca[k] * s, data.cb[k] * s);
-        (u0[ia], u1[ia], u2[ia]) = (u0[ia] + sa * e[0], u1[ia] + sa * e[1], u2[ia] + sa * e[2]);
-        (u0[ib], u1[ib], u2[ib]) = (u0[ib] - sb * e[0], u1[ib] - sb * e[1], u2[ib] - sb * e[2]);
+    for lane in 0..L {
+        let [x0, x1, x2] = x[lane];
+        let [u0, u1, u2] = &mut u[lane];
+        let data = &data[lane];
+        for k in N * chunks..len {
+            let (ia, ib) = (a + k, b + k);
+            let r = [u0[ia] - u0[ib], u1[ia] - u1[ib], u2[ia] - u2[ib]];
+            let e = [
+                (x0[ia] - x0[ib]) + r[0],
+                (x1[ia] - x1[ib]) + r[1],
+                (x2[ia] - x2[ib]) + r[2],
+            ];
+            let s = multiplier(e, r, data.rest[k], data.gamma);
+            let (sa, sb) = (data.ca[k] * s, data.cb[k] * s);
+            (u0[ia], u1[ia], u2[ia]) = (u0[ia] + sa * e[0], u1[ia] + sa * e[1], u2[ia] + sa * e[2]);
+            (u0[ib], u1[ib], u2[ib]) = (u0[ib] - sb * e[0], u1[ib] - sb * e[1], u2[ib] - sb * e[2]);
+        }
     }
+}
+
+/// The `N` elements from `k` of a lane whose ends lie in the same arrays, ends at `ia` and
+/// `ib` (at least `N` apart).
+#[inline(always)]
+fn shared_chunk<const N: usize>(
+    [x0, x1, x2]: [&[f32]; 3],
+    [u0, u1, u2]: &mut [&mut [f32]; 3],
+    (ia, ib): (usize, usize),
+    data: &RunData,
+    k: usize,
+) {
+    let (pa, pb): ([Lanes<N>; 3], [Lanes<N>; 3]) = (
+        [load(u0, ia), load(u1, ia), load(u2, ia)],
+        [load(u0, ib), load(u1, ib), load(u2, ib)],
+    );
+    let r = [
+        zip(pa[0], pb[0], |p, q| p - q),
+        zip(pa[1], pb[1], |p, q| p - q),
+        zip(pa[2], pb[2], |p, q| p - q),
+    ];
+    let e = [
+        zip(
+            zip(load(x0, ia), load(x0, ib), |p, q| p - q),
+            r[0],
+            |p, q| p + q,
+        ),
+        zip(
+            zip(load(x1, ia), load(x1, ib), |p, q| p - q),
+            r[1],
+            |p, q| p + q,
+        ),
+        zip(
+            zip(load(x2, ia), load(x2, ib), |p, q| p - q),
+            r[2],
+            |p, q| p + q,
+        ),
+    ];
+    let (sa, sb) = several(e, r, data, k);
+    store(
+        u0,
+        ia,
+        zip(pa[0], zip(sa, e[0], |p, q| p * q), |p, q| p + q),
+    );
+    store(
+        u1,
+        ia,
+        zip(pa[1], zip(sa, e[1], |p, q| p * q), |p, q| p + q),
+    );
+    store(
+        u2,
+        ia,
+        zip(pa[2], zip(sa, e[2], |p, q| p * q), |p, q| p + q),
+    );
+    store(
+        u0,
+        ib,
+        zip(pb[0], zip(sb, e[0], |p, q| p * q), |p, q| p - q),
+    );
+    store(
+        u1,
+        ib,
+        zip(pb[1], zip(sb, e[1], |p, q| p * q), |p, q| p - q),
+    );
+    store(
+        u2,
+        ib,
+        zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
+    );
 }
 
 /// The lane kernels eight elements at a time, compiled for AVX and used where the CPU has it
@@ -334,7 +393,7 @@ fn shared_lane<const N: usize>(
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
 mod wide {
-    use super::{RunData, shared_lane, split_lane};
+    use super::{RunData, shared_lane, shared_lanes, split_lane};
 
     pub(super) use crate::sim::simd::avx_available as available;
 
@@ -360,6 +419,28 @@ mod wide {
     ) {
         // SAFETY: called only after `available()` found AVX on this CPU.
         unsafe { shared_avx(x, u, a, b, data) }
+    }
+
+    /// [`super::project_shared_together`] eight elements at a time, for ends at least eight
+    /// apart. Only called when [`available`].
+    pub(super) fn project_shared_together<const L: usize>(
+        x: [[&[f32]; 3]; L],
+        u: &mut [[&mut [f32]; 3]; L],
+        ends: (usize, usize),
+        data: [RunData; L],
+    ) {
+        // SAFETY: called only after `available()` found AVX on this CPU.
+        unsafe { shared_together_avx(x, u, ends, data) }
+    }
+
+    #[target_feature(enable = "avx")]
+    fn shared_together_avx<const L: usize>(
+        x: [[&[f32]; 3]; L],
+        u: &mut [[&mut [f32]; 3]; L],
+        ends: (usize, usize),
+        data: [RunData; L],
+    ) {
+        shared_lanes::<8, L>(x, u, ends, data);
     }
 
     #[target_feature(enable = "avx")]
@@ -543,6 +624,66 @@ mod tests {
             let one_by_one = run(&|arrays| project_indexed(arrays, &a, &b, data));
             let lane = run(&|arrays| project_shared(arrays.x, &mut arrays.u, 0, gap, data));
             assert_eq!(lane, one_by_one, "gap {gap}");
+        }
+    }
+
+    #[test]
+    fn lanes_side_by_side_equal_each_lane_in_turn_to_the_bit() {
+        // Four chains of 60 particles, each with its own positions, motion and springs, as a
+        // grid's four quarter grids have; a lane in each joins a particle to the one `gap` on.
+        let n = 60;
+        let value = |i: usize, scale: f32| scale * ((i * 7919 % 101) as f32 - 50.0) / 37.0;
+        let x: [[Vec<f32>; 3]; 4] = core::array::from_fn(|q| {
+            core::array::from_fn(|axis| {
+                (0..n)
+                    .map(|i| {
+                        0.04 * (axis == 1) as u8 as f32 * i as f32 + value(i + 13 * q + axis, 1e-3)
+                    })
+                    .collect()
+            })
+        });
+        let u0: [[Vec<f32>; 3]; 4] = core::array::from_fn(|q| {
+            core::array::from_fn(|axis| (0..n).map(|i| value(i + 7 * q + axis, 1e-5)).collect())
+        });
+        for gap in [3usize, 5, 8, 9, 12, 15] {
+            let len = n - gap;
+            let per_lane = |q: usize, scale: f32, base: f32| -> Vec<f32> {
+                (0..len).map(|k| base + value(k + 3 * q, scale)).collect()
+            };
+            let rest: [Vec<f32>; 4] =
+                core::array::from_fn(|q| per_lane(q, 1e-3, 0.04 * gap as f32));
+            let ca: [Vec<f32>; 4] = core::array::from_fn(|q| per_lane(q + 1, 1e-2, 0.3));
+            let cb: [Vec<f32>; 4] = core::array::from_fn(|q| per_lane(q + 2, 1e-2, 0.2));
+            let data: [RunData; 4] = core::array::from_fn(|q| RunData {
+                rest: &rest[q],
+                ca: &ca[q],
+                cb: &cb[q],
+                gamma: 0.05 * q as f32,
+            });
+            let xs: [[&[f32]; 3]; 4] = core::array::from_fn(|q| x[q].each_ref().map(|a| &a[..]));
+            let mut in_turn = u0.clone();
+            for (q, u) in in_turn.iter_mut().enumerate() {
+                let [u_x, u_y, u_z] = u;
+                project_shared(xs[q], &mut [u_x, u_y, u_z], 0, gap, data[q]);
+            }
+            let mut together = u0.clone();
+            let mut u = together
+                .each_mut()
+                .map(|[u_x, u_y, u_z]| [&mut u_x[..], &mut u_y[..], &mut u_z[..]]);
+            project_shared_together(xs, &mut u, (0, gap), data);
+            let bits = |u: &[[Vec<f32>; 3]; 4]| {
+                u.iter()
+                    .flatten()
+                    .flatten()
+                    .map(|v| v.to_bits())
+                    .collect::<Vec<_>>()
+            };
+            assert_ne!(
+                bits(&in_turn),
+                bits(&u0),
+                "gap {gap}: the springs moved nothing"
+            );
+            assert_eq!(bits(&together), bits(&in_turn), "gap {gap}");
         }
     }
 
