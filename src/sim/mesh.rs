@@ -144,9 +144,29 @@ fn burn_data(
     state: &[BurnState],
     material: &BurnMaterial,
 ) {
+    // [`burn_attribute`] without a branch, so the loop vectorises: both fractions always,
+    // then the state picks (the same values to the bit).
+    let (cold, ignition, burnt) = (
+        material.initial_temperature,
+        material.ignition_temperature,
+        material.burnt_temperature,
+    );
     for ((out, &t), &s) in out.iter_mut().zip(temperature).zip(state) {
-        *out = burn_attribute(t, s, material);
+        let heat = fraction(t, cold, ignition);
+        let burn = fraction(t, ignition, burnt);
+        let [heat, burn] = [heat, if s == BurnState::Ignited { burn } else { 0.0 }];
+        *out = if s == BurnState::Burnt {
+            [1.0, 1.0]
+        } else {
+            [heat, burn]
+        };
     }
+}
+
+/// Where `temperature` lies from `from` to `to`, in [0, 1].
+#[inline(always)]
+fn fraction(temperature: f32, from: f32, to: f32) -> f32 {
+    ((temperature - from) / (to - from)).clamp(0.0, 1.0)
 }
 
 /// Each triangle's normal scaled by twice its area, or zero once a corner has burnt.
@@ -188,14 +208,21 @@ fn vertex_normals(out: &mut [[f32; 3]], bounds: &[u32], rows: &[u32], faces: &[V
 /// ignition to the burnt temperature (char, glow, and the cut where it passes the
 /// material's threshold). A burnt particle is `[1, 1]`.
 pub fn burn_attribute(temperature: f32, state: BurnState, material: &BurnMaterial) -> [f32; 2] {
-    let fraction = |from: f32, to: f32| ((temperature - from) / (to - from)).clamp(0.0, 1.0);
-    let heat = fraction(material.initial_temperature, material.ignition_temperature);
+    let heat = fraction(
+        temperature,
+        material.initial_temperature,
+        material.ignition_temperature,
+    );
     match state {
         BurnState::Burnt => [1.0, 1.0],
         BurnState::Intact => [heat, 0.0],
         BurnState::Ignited => [
             heat,
-            fraction(material.ignition_temperature, material.burnt_temperature),
+            fraction(
+                temperature,
+                material.ignition_temperature,
+                material.burnt_temperature,
+            ),
         ],
     }
 }
