@@ -264,18 +264,24 @@ fn shared_lane<const N: usize>(
     b: usize,
     data: RunData,
 ) {
+    let len = data.rest.len();
+    let data = data.cut(len);
+    let end = a.max(b) + len;
+    // Every array cut to one length, so one test covers a chunk's reads.
+    let x = x.map(|s| &s[..end]);
     let [u0, u1, u2] = u;
-    shared_lanes::<N, 1>(
-        [x],
-        &mut [[&mut **u0, &mut **u1, &mut **u2]],
-        (a, b),
-        [data],
-    );
+    let mut u = [&mut u0[..end], &mut u1[..end], &mut u2[..end]];
+    let chunks = if a.abs_diff(b) >= N { len / N } else { 0 };
+    for chunk in 0..chunks {
+        let k = N * chunk;
+        shared_chunk::<N>(x, &mut u, (a + k, b + k), &data, k);
+    }
+    shared_tail(x, &mut u, (a, b), &data, N * chunks..len);
 }
 
-/// [`project_shared_together`] (and, with one lane, [`project_shared`]), `N` elements at a
-/// time when the ends are at least `N` apart: every lane's first chunk, then every lane's
-/// second, and so on, then each lane's last elements one at a time.
+/// [`project_shared_together`], `N` elements at a time when the ends are at least `N` apart:
+/// every lane's first chunk, then every lane's second, and so on, then each lane's last
+/// elements one at a time.
 #[inline(always)]
 fn shared_lanes<const N: usize, const L: usize>(
     x: [[&[f32]; 3]; L],
@@ -286,7 +292,6 @@ fn shared_lanes<const N: usize, const L: usize>(
     let len = data[0].rest.len();
     let data = data.map(|data| data.cut(len));
     let end = a.max(b) + len;
-    // Every array cut to one length, so one test covers a chunk's reads.
     let x = x.map(|x| x.map(|s| &s[..end]));
     let mut u = u
         .each_mut()
@@ -299,22 +304,31 @@ fn shared_lanes<const N: usize, const L: usize>(
         }
     }
     for lane in 0..L {
-        let [x0, x1, x2] = x[lane];
-        let [u0, u1, u2] = &mut u[lane];
-        let data = &data[lane];
-        for k in N * chunks..len {
-            let (ia, ib) = (a + k, b + k);
-            let r = [u0[ia] - u0[ib], u1[ia] - u1[ib], u2[ia] - u2[ib]];
-            let e = [
-                (x0[ia] - x0[ib]) + r[0],
-                (x1[ia] - x1[ib]) + r[1],
-                (x2[ia] - x2[ib]) + r[2],
-            ];
-            let s = multiplier(e, r, data.rest[k], data.gamma);
-            let (sa, sb) = (data.ca[k] * s, data.cb[k] * s);
-            (u0[ia], u1[ia], u2[ia]) = (u0[ia] + sa * e[0], u1[ia] + sa * e[1], u2[ia] + sa * e[2]);
-            (u0[ib], u1[ib], u2[ib]) = (u0[ib] - sb * e[0], u1[ib] - sb * e[1], u2[ib] - sb * e[2]);
-        }
+        shared_tail(x[lane], &mut u[lane], (a, b), &data[lane], N * chunks..len);
+    }
+}
+
+/// Elements `range` of a lane whose ends lie in the same arrays, one at a time.
+#[inline(always)]
+fn shared_tail(
+    [x0, x1, x2]: [&[f32]; 3],
+    [u0, u1, u2]: &mut [&mut [f32]; 3],
+    (a, b): (usize, usize),
+    data: &RunData,
+    range: core::ops::Range<usize>,
+) {
+    for k in range {
+        let (ia, ib) = (a + k, b + k);
+        let r = [u0[ia] - u0[ib], u1[ia] - u1[ib], u2[ia] - u2[ib]];
+        let e = [
+            (x0[ia] - x0[ib]) + r[0],
+            (x1[ia] - x1[ib]) + r[1],
+            (x2[ia] - x2[ib]) + r[2],
+        ];
+        let s = multiplier(e, r, data.rest[k], data.gamma);
+        let (sa, sb) = (data.ca[k] * s, data.cb[k] * s);
+        (u0[ia], u1[ia], u2[ia]) = (u0[ia] + sa * e[0], u1[ia] + sa * e[1], u2[ia] + sa * e[2]);
+        (u0[ib], u1[ib], u2[ib]) = (u0[ib] - sb * e[0], u1[ib] - sb * e[1], u2[ib] - sb * e[2]);
     }
 }
 
