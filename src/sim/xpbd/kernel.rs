@@ -79,6 +79,14 @@ fn store<const N: usize>(slice: &mut [f32], at: usize, value: Lanes<N>) {
     slice[at..at + N].copy_from_slice(&value);
 }
 
+/// `value`'s three axes stored from `at` in the three arrays.
+#[inline(always)]
+fn store_axes<const N: usize>([s0, s1, s2]: [&mut [f32]; 3], at: usize, value: [Lanes<N>; 3]) {
+    store(s0, at, value[0]);
+    store(s1, at, value[1]);
+    store(s2, at, value[2]);
+}
+
 #[inline(always)]
 fn zip<const N: usize>(a: Lanes<N>, b: Lanes<N>, f: impl Fn(f32, f32) -> f32) -> Lanes<N> {
     core::array::from_fn(|l| f(a[l], b[l]))
@@ -146,63 +154,15 @@ fn split_lane<const N: usize>(
     let chunks = len / N;
     for chunk in 0..chunks {
         let k = N * chunk;
-        let (pa, pb): ([Lanes<N>; 3], [Lanes<N>; 3]) = (
+        let (ua, ub) = chunk_step::<N>(
+            [load(xa0, k), load(xa1, k), load(xa2, k)],
+            [load(xb0, k), load(xb1, k), load(xb2, k)],
             [load(ua0, k), load(ua1, k), load(ua2, k)],
             [load(ub0, k), load(ub1, k), load(ub2, k)],
+            (&data, k),
         );
-        let r = [
-            zip(pa[0], pb[0], |p, q| p - q),
-            zip(pa[1], pb[1], |p, q| p - q),
-            zip(pa[2], pb[2], |p, q| p - q),
-        ];
-        let e = [
-            zip(
-                zip(load(xa0, k), load(xb0, k), |p, q| p - q),
-                r[0],
-                |p, q| p + q,
-            ),
-            zip(
-                zip(load(xa1, k), load(xb1, k), |p, q| p - q),
-                r[1],
-                |p, q| p + q,
-            ),
-            zip(
-                zip(load(xa2, k), load(xb2, k), |p, q| p - q),
-                r[2],
-                |p, q| p + q,
-            ),
-        ];
-        let (sa, sb) = several(e, r, &data, k);
-        store(
-            ua0,
-            k,
-            zip(pa[0], zip(sa, e[0], |p, q| p * q), |p, q| p + q),
-        );
-        store(
-            ua1,
-            k,
-            zip(pa[1], zip(sa, e[1], |p, q| p * q), |p, q| p + q),
-        );
-        store(
-            ua2,
-            k,
-            zip(pa[2], zip(sa, e[2], |p, q| p * q), |p, q| p + q),
-        );
-        store(
-            ub0,
-            k,
-            zip(pb[0], zip(sb, e[0], |p, q| p * q), |p, q| p - q),
-        );
-        store(
-            ub1,
-            k,
-            zip(pb[1], zip(sb, e[1], |p, q| p * q), |p, q| p - q),
-        );
-        store(
-            ub2,
-            k,
-            zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
-        );
+        store_axes([&mut *ua0, &mut *ua1, &mut *ua2], k, ua);
+        store_axes([&mut *ub0, &mut *ub1, &mut *ub2], k, ub);
     }
     for k in N * chunks..len {
         let r = [ua0[k] - ub0[k], ua1[k] - ub1[k], ua2[k] - ub2[k]];
@@ -342,63 +302,53 @@ fn shared_chunk<const N: usize>(
     data: &RunData,
     k: usize,
 ) {
-    let (pa, pb): ([Lanes<N>; 3], [Lanes<N>; 3]) = (
+    let (ua, ub) = chunk_step::<N>(
+        [load(x0, ia), load(x1, ia), load(x2, ia)],
+        [load(x0, ib), load(x1, ib), load(x2, ib)],
         [load(u0, ia), load(u1, ia), load(u2, ia)],
         [load(u0, ib), load(u1, ib), load(u2, ib)],
+        (data, k),
     );
+    store_axes([&mut **u0, &mut **u1, &mut **u2], ia, ua);
+    store_axes([&mut **u0, &mut **u1, &mut **u2], ib, ub);
+}
+
+/// One chunk of `N` elements (the `N` from `k` of `data`): from its ends' positions at the
+/// start of the substep, `xa` and `xb`, and their motions so far, `pa` and `pb` (per axis),
+/// the motions after the projection.
+#[inline(always)]
+fn chunk_step<const N: usize>(
+    xa: [Lanes<N>; 3],
+    xb: [Lanes<N>; 3],
+    pa: [Lanes<N>; 3],
+    pb: [Lanes<N>; 3],
+    (data, k): (&RunData, usize),
+) -> ([Lanes<N>; 3], [Lanes<N>; 3]) {
+    // Written out axis by axis: through `array::from_fn` the compiler kept the lanes apart
+    // and the kernels took three times the instructions.
     let r = [
         zip(pa[0], pb[0], |p, q| p - q),
         zip(pa[1], pb[1], |p, q| p - q),
         zip(pa[2], pb[2], |p, q| p - q),
     ];
     let e = [
-        zip(
-            zip(load(x0, ia), load(x0, ib), |p, q| p - q),
-            r[0],
-            |p, q| p + q,
-        ),
-        zip(
-            zip(load(x1, ia), load(x1, ib), |p, q| p - q),
-            r[1],
-            |p, q| p + q,
-        ),
-        zip(
-            zip(load(x2, ia), load(x2, ib), |p, q| p - q),
-            r[2],
-            |p, q| p + q,
-        ),
+        zip(zip(xa[0], xb[0], |p, q| p - q), r[0], |p, q| p + q),
+        zip(zip(xa[1], xb[1], |p, q| p - q), r[1], |p, q| p + q),
+        zip(zip(xa[2], xb[2], |p, q| p - q), r[2], |p, q| p + q),
     ];
     let (sa, sb) = several(e, r, data, k);
-    store(
-        u0,
-        ia,
-        zip(pa[0], zip(sa, e[0], |p, q| p * q), |p, q| p + q),
-    );
-    store(
-        u1,
-        ia,
-        zip(pa[1], zip(sa, e[1], |p, q| p * q), |p, q| p + q),
-    );
-    store(
-        u2,
-        ia,
-        zip(pa[2], zip(sa, e[2], |p, q| p * q), |p, q| p + q),
-    );
-    store(
-        u0,
-        ib,
-        zip(pb[0], zip(sb, e[0], |p, q| p * q), |p, q| p - q),
-    );
-    store(
-        u1,
-        ib,
-        zip(pb[1], zip(sb, e[1], |p, q| p * q), |p, q| p - q),
-    );
-    store(
-        u2,
-        ib,
-        zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
-    );
+    (
+        [
+            zip(pa[0], zip(sa, e[0], |p, q| p * q), |p, q| p + q),
+            zip(pa[1], zip(sa, e[1], |p, q| p * q), |p, q| p + q),
+            zip(pa[2], zip(sa, e[2], |p, q| p * q), |p, q| p + q),
+        ],
+        [
+            zip(pb[0], zip(sb, e[0], |p, q| p * q), |p, q| p - q),
+            zip(pb[1], zip(sb, e[1], |p, q| p * q), |p, q| p - q),
+            zip(pb[2], zip(sb, e[2], |p, q| p * q), |p, q| p - q),
+        ],
+    )
 }
 
 /// The lane kernels eight elements at a time, compiled for AVX and used where the CPU has it
