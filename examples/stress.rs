@@ -17,9 +17,10 @@
 //! bottom centre, burning for 2 s before the measured frames, then measured over the next 8 s
 //! (480 frames) at every size, so every size is timed over the same stretch of its fire: what
 //! burning costs grows with the fire. The median of 5 runs (3 for the slow force-based
-//! solver) is printed, with its mean over the 8 s and its dearest second. "frame" is the simulation step (heat, combustion, pieces,
-//! dynamics, culling) plus the smoke (with feature `smoke`) plus the CPU side of the mesh update
-//! ([`MeshData::update`]: local positions, normals, burn data). Threads: Bevy's compute task pool
+//! solver) is printed, with its mean over the 8 s and its dearest second. "frame" is the
+//! simulation step (heat, combustion, pieces, dynamics, culling) plus the smoke (with feature
+//! `smoke`) plus the CPU side of the mesh update ([`MeshData::update`]: local positions,
+//! normals, burn data). Threads: Bevy's compute task pool
 //! with a thread per core (Bevy's default leaves one on a 2-core machine).
 
 use bevy::math::{Affine3A, Vec3};

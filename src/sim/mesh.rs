@@ -145,7 +145,9 @@ fn burn_data(
     material: &BurnMaterial,
 ) {
     // [`burn_attribute`] without a branch, so the loop vectorises: both fractions always,
-    // then the state picks (the same values to the bit).
+    // then the state picks (the same values to the bit). Written here, not as a branch-free
+    // `burn_attribute` called from the loop: that compiled to 4.6 % more instructions for the
+    // whole mesh update (callgrind, 32 x 32 and 64 x 64 cloths).
     let (cold, ignition, burnt) = (
         material.initial_temperature,
         material.ignition_temperature,
