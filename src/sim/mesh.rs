@@ -1,25 +1,36 @@
 //! Vertex data of a cloth's mesh, computed from the simulation into reused buffers: each
 //! particle's position in the cloth's own frame, an area-weighted normal from the triangles
 //! still drawn, and burn data for the shader. Plain arrays the render layer copies into its
-//! mesh; computed in parts over the task pool (each vertex and each triangle on its own, so
-//! the result does not depend on the split).
+//! mesh.
+//!
+//! Normals are summed by scattering: each drawn triangle adds its twice-area normal to its
+//! three corners, in triangle order, and each vertex's sum is then normalised. On one thread
+//! that is the whole update; a big mesh goes in four phases over the task pool (positions and
+//! burn data by runs of vertices; the triangles in parts, those of even parts at once, then
+//! those of odd parts; normalising by runs of vertices), its triangle parts cut from the mesh
+//! alone, so the result does not depend on the number of threads.
 
 use super::material::BurnMaterial;
-use super::parallel::{for_each_part, parts_for, pieces};
+use super::parallel::{Claims, Disjoint, parts_for, run_phases};
 use super::particles::{BurnState, Particles};
 use super::topology::Topology;
 use bevy::tasks::TaskPool;
+use core::ops::Range;
 use glam::{Affine3A, Vec3, Vec3A};
 
-/// Vertices below which a cloth's mesh is updated on one thread. A mesh bench (two threads,
-/// medians of 15 blocks, three alternated runs): at 64 x 64, four parts took 0.09–0.12 ms
-/// against 0.05–0.08 in one.
+/// Vertices below which a cloth's mesh is updated on one thread, its triangles as one part.
+/// A mesh bench (a cotton cloth 6 s after lighting, medians of 9 blocks of 200 updates, the
+/// 2-core machine): at 64 x 64 one thread took 0.037 ms; at 128 x 128 0.155 on one thread
+/// and 0.096–0.106 on two, at 256 x 256 0.63 and 0.36–0.44.
 const SERIAL_BELOW: usize = 8192;
 
-/// Vertices or triangles per part, at least, of a mesh updated on the pool's threads. The
-/// same bench at 128 x 128: parts of 1 024 took 0.18–0.24 ms against 0.26–0.27 for parts
-/// of 4 096.
+/// Vertices per part, at least, of the per-vertex phases of a mesh updated on the pool's
+/// threads.
 const SMALLEST_PART: usize = 1024;
+
+/// Triangles per part of the face phase of a mesh of [`SERIAL_BELOW`] vertices or more: on a
+/// grid 128 wide, eight rows of quads, so a part two on touches none of the same vertices.
+const TRIANGLE_PART: usize = 2048;
 
 /// A cloth's vertex data and the buffers behind it.
 #[derive(Clone, Debug, Default)]
@@ -30,12 +41,21 @@ pub struct MeshData {
     pub normals: Vec<[f32; 3]>,
     /// [`burn_attribute`] of each particle.
     pub burn: Vec<[f32; 2]>,
-    /// Twice-area normal of each triangle (zero when it is not drawn); SIMD vectors, so
-    /// summing a vertex's faces is a vector add a face.
-    face: Vec<Vec3A>,
-    /// The triangles of each particle, compressed rows.
-    rows_start: Vec<u32>,
-    rows: Vec<u32>,
+    /// Each vertex's sum of the twice-area normals of its drawn triangles; SIMD vectors, so
+    /// adding a face is one vector add.
+    sums: Vec<Vec3A>,
+    /// The face phase's parts: their triangles and the vertices those touch.
+    face_parts: Vec<FacePart>,
+    /// Vertices and triangles the parts were cut for.
+    cut_for: (usize, usize),
+    claims: Claims,
+}
+
+/// Consecutive triangles of the face phase and the run of vertices they touch.
+#[derive(Clone, Debug)]
+struct FacePart {
+    triangles: Range<usize>,
+    vertices: Range<usize>,
 }
 
 impl MeshData {
@@ -43,11 +63,12 @@ impl MeshData {
     pub fn heap_bytes(&self) -> usize {
         (self.positions.capacity() + self.normals.capacity()) * size_of::<[f32; 3]>()
             + self.burn.capacity() * size_of::<[f32; 2]>()
-            + self.face.capacity() * size_of::<Vec3A>()
-            + (self.rows_start.capacity() + self.rows.capacity()) * size_of::<u32>()
+            + self.sums.capacity() * size_of::<Vec3A>()
+            + self.face_parts.capacity() * size_of::<FacePart>()
     }
 
     /// Recomputes the vertex data of a cloth placed by `world_to_local`'s inverse.
+    #[allow(unsafe_code)]
     pub fn update(
         &mut self,
         particles: &Particles,
@@ -57,75 +78,106 @@ impl MeshData {
         pool: Option<&TaskPool>,
     ) {
         let n = particles.len();
-        self.prepare(n, &topology.triangles);
-        let pool = pool.filter(|_| n >= SERIAL_BELOW);
-        let parts = parts_for(pool, n, SMALLEST_PART);
-        let size = n.div_ceil(parts).max(1);
-        // Positions and burn data, vertex by vertex.
-        let state = &particles.state[..n];
-        let work = pieces(&mut self.positions, parts)
-            .zip(pieces(&mut self.burn, parts))
-            .zip(particles.position.chunks(size))
-            .zip(particles.temperature.chunks(size).zip(state.chunks(size)));
-        for_each_part(
-            pool,
-            work,
-            |(((positions, burn), world), (temperature, state))| {
-                local_vertices(positions, world, world_to_local);
-                burn_data(burn, temperature, state, material);
-            },
-        );
-        // Face normals, triangle by triangle, from the local positions.
         let triangles = &topology.triangles;
-        let face_parts = parts_for(pool, triangles.len(), SMALLEST_PART);
-        let face_size = triangles.len().div_ceil(face_parts).max(1);
-        let positions = &self.positions[..n];
-        let work = pieces(&mut self.face, face_parts).zip(triangles.chunks(face_size));
-        for_each_part(pool, work, |(faces, triangles)| {
-            face_normals(faces, triangles, positions, state);
-        });
-        // Vertex normals, vertex by vertex, from the faces around each.
-        let (faces, start, rows) = (&self.face, &self.rows_start, &self.rows);
-        let work = pieces(&mut self.normals, parts).enumerate();
-        for_each_part(pool, work, |(part, normals)| {
-            let first = part * size;
-            vertex_normals(normals, &start[first..=first + normals.len()], rows, faces);
+        self.prepare(n, triangles);
+        let pool = pool.filter(|_| n >= SERIAL_BELOW);
+        let runs = parts_for(pool, n, SMALLEST_PART);
+        let run_size = n.div_ceil(runs).max(1);
+        let run = |item: usize| (item * run_size).min(n)..((item + 1) * run_size).min(n);
+        let parts = self.face_parts.len();
+        let sizes = [runs, parts.div_ceil(2), parts / 2, runs];
+        let state = &particles.state[..n];
+        let positions = Disjoint::new(&mut self.positions[..n]);
+        let burn = Disjoint::new(&mut self.burn[..n]);
+        let sums = Disjoint::new(&mut self.sums[..n]);
+        let normals = Disjoint::new(&mut self.normals[..n]);
+        let face_parts = &self.face_parts;
+        run_phases(pool, &sizes, &mut self.claims, |phase, item| match phase {
+            0 => {
+                // Positions, burn data and cleared sums, a run of vertices at a time.
+                let run = run(item);
+                // SAFETY: the runs of a phase are disjoint, and nothing else reads or writes
+                // these arrays in this phase.
+                let (positions, burn, sums) = unsafe {
+                    (
+                        positions.part(run.clone()),
+                        burn.part(run.clone()),
+                        sums.part(run.clone()),
+                    )
+                };
+                local_vertices(positions, &particles.position[run.clone()], world_to_local);
+                burn_data(
+                    burn,
+                    &particles.temperature[run.clone()],
+                    &state[run],
+                    material,
+                );
+                sums.fill(Vec3A::ZERO);
+            }
+            1 | 2 => {
+                // Every even part's triangles, then every odd part's: the parts of one
+                // parity touch disjoint vertices (see `prepare`).
+                let part = &face_parts[2 * item + phase - 1];
+                // SAFETY: positions are only read in this phase; the vertices of the parts
+                // of one phase are disjoint.
+                let (positions, sums) =
+                    unsafe { (positions.read(0..n), sums.part(part.vertices.clone())) };
+                add_faces(
+                    sums,
+                    part.vertices.start,
+                    &triangles[part.triangles.clone()],
+                    positions,
+                    state,
+                );
+            }
+            _ => {
+                let run = run(item);
+                // SAFETY: the runs of a phase are disjoint; the sums are only read here.
+                let (normals, sums) = unsafe { (normals.part(run.clone()), sums.read(run)) };
+                normalise(normals, sums);
+            }
         });
     }
 
-    /// Sizes the buffers and, when the triangles changed in number, the rows from each
-    /// particle to its triangles.
+    /// Sizes the buffers and, when the mesh changed, cuts the triangles into the face phase's
+    /// parts: one part below [`SERIAL_BELOW`] vertices, or when the mesh's triangles are not
+    /// in an order whose parts two apart touch disjoint vertices (a grid's are); else parts
+    /// of [`TRIANGLE_PART`].
     fn prepare(&mut self, n: usize, triangles: &[[u32; 3]]) {
         self.positions.resize(n, [0.0; 3]);
         self.normals.resize(n, [0.0; 3]);
         self.burn.resize(n, [0.0; 2]);
-        if self.face.len() == triangles.len() && self.rows_start.len() == n + 1 {
+        self.sums.resize(n, Vec3A::ZERO);
+        if self.cut_for == (n, triangles.len()) && !self.face_parts.is_empty() {
             return;
         }
-        self.face.clear();
-        self.face.resize(triangles.len(), Vec3A::ZERO);
-        self.rows_start.clear();
-        self.rows_start.resize(n + 1, 0);
-        for triangle in triangles {
-            for &i in triangle {
-                if (i as usize) < n {
-                    self.rows_start[i as usize + 1] += 1;
-                }
-            }
+        self.cut_for = (n, triangles.len());
+        self.face_parts.clear();
+        let whole = FacePart {
+            triangles: 0..triangles.len(),
+            vertices: 0..n,
+        };
+        if n < SERIAL_BELOW {
+            self.face_parts.push(whole);
+            return;
         }
-        for i in 0..n {
-            self.rows_start[i + 1] += self.rows_start[i];
+        for (k, chunk) in triangles.chunks(TRIANGLE_PART).enumerate() {
+            let corners = chunk.iter().flatten().map(|&i| i as usize);
+            let first = corners.clone().min().unwrap_or(0);
+            let end = corners.max().map_or(first, |last| last + 1);
+            let start = k * TRIANGLE_PART;
+            self.face_parts.push(FacePart {
+                triangles: start..start + chunk.len(),
+                vertices: first..end.min(n),
+            });
         }
-        self.rows.clear();
-        self.rows.resize(self.rows_start[n] as usize, 0);
-        let mut cursor = self.rows_start[..n].to_vec();
-        for (t, triangle) in triangles.iter().enumerate() {
-            for &i in triangle {
-                if (i as usize) < n {
-                    self.rows[cursor[i as usize] as usize] = t as u32;
-                    cursor[i as usize] += 1;
-                }
-            }
+        let apart = self
+            .face_parts
+            .windows(3)
+            .all(|w| w[0].vertices.end <= w[2].vertices.start);
+        if !apart {
+            self.face_parts.clear();
+            self.face_parts.push(whole);
         }
     }
 }
@@ -171,36 +223,38 @@ fn fraction(temperature: f32, from: f32, to: f32) -> f32 {
     ((temperature - from) / (to - from)).clamp(0.0, 1.0)
 }
 
-/// Each triangle's normal scaled by twice its area, or zero once a corner has burnt.
-/// `positions` and `state` have one entry per particle.
-fn face_normals(
-    out: &mut [Vec3A],
+/// Adds each drawn triangle's normal, scaled by twice its area, to its three corners' sums,
+/// in order; a triangle with a burnt corner is not drawn and adds nothing. `sums` holds the
+/// vertices from `first` on that `triangles` touch; `positions` and `state` have one entry
+/// per particle.
+fn add_faces(
+    sums: &mut [Vec3A],
+    first: usize,
     triangles: &[[u32; 3]],
     positions: &[[f32; 3]],
     state: &[BurnState],
 ) {
     // Both cut to one length, so one test per corner checks both reads.
     let state = &state[..positions.len()];
-    for (face, triangle) in out.iter_mut().zip(triangles) {
+    for triangle in triangles {
         let [a, b, c] = triangle.map(|i| i as usize);
         let burnt = |i: usize| state[i] == BurnState::Burnt;
         // `|` rather than `||`: no branch per corner.
-        *face = if burnt(a) | burnt(b) | burnt(c) {
-            Vec3A::ZERO
-        } else {
-            let [pa, pb, pc] = [a, b, c].map(|i| Vec3A::from(positions[i]));
-            // The cross product's length is twice the area: larger triangles weigh more.
-            (pb - pa).cross(pc - pa)
-        };
+        if burnt(a) | burnt(b) | burnt(c) {
+            continue;
+        }
+        let [pa, pb, pc] = [a, b, c].map(|i| Vec3A::from(positions[i]));
+        // The cross product's length is twice the area: larger triangles weigh more.
+        let face = (pb - pa).cross(pc - pa);
+        for corner in [a, b, c] {
+            sums[corner - first] += face;
+        }
     }
 }
 
-/// Each vertex's normal: the normalised sum of the faces around it, `+Z` for none. Vertex
-/// `k`'s faces are `rows[bounds[k]..bounds[k + 1]]`.
-fn vertex_normals(out: &mut [[f32; 3]], bounds: &[u32], rows: &[u32], faces: &[Vec3A]) {
-    for (normal, ends) in out.iter_mut().zip(bounds.windows(2)) {
-        let around = &rows[ends[0] as usize..ends[1] as usize];
-        let sum: Vec3A = around.iter().map(|&t| faces[t as usize]).sum();
+/// Each vertex's unit normal from its sum of faces, `+Z` where it has none.
+fn normalise(out: &mut [[f32; 3]], sums: &[Vec3A]) {
+    for (normal, sum) in out.iter_mut().zip(sums) {
         *normal = sum.try_normalize().unwrap_or(Vec3A::Z).to_array();
     }
 }
@@ -273,6 +327,108 @@ mod tests {
             "{:?}",
             mesh.normals
         );
+    }
+
+    /// Each vertex's area-weighted normal summed in f64 from every drawn triangle that has
+    /// it as a corner, by brute force, as a reference.
+    fn reference_normals(
+        positions: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        burnt: &[bool],
+    ) -> Vec<[f64; 3]> {
+        let mut sums = vec![[0.0f64; 3]; positions.len()];
+        for t in triangles
+            .iter()
+            .filter(|t| t.iter().all(|&i| !burnt[i as usize]))
+        {
+            let [a, b, c] = t.map(|i| positions[i as usize].map(f64::from));
+            let (u, v) = (
+                [0, 1, 2].map(|k| b[k] - a[k]),
+                [0, 1, 2].map(|k| c[k] - a[k]),
+            );
+            let face = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            for &i in t {
+                for k in 0..3 {
+                    sums[i as usize][k] += face[k];
+                }
+            }
+        }
+        sums.iter()
+            .map(|s| {
+                let length = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+                if length > 0.0 {
+                    s.map(|x| x / length)
+                } else {
+                    [0.0, 0.0, 1.0]
+                }
+            })
+            .collect()
+    }
+
+    /// A crumpled 100 x 100 grid (past [`SERIAL_BELOW`], so its faces go in parts) with a
+    /// burnt hole, its triangles in the grid's order or `shuffled`.
+    fn crumpled(shuffled: bool) -> (Particles, Topology) {
+        let parts = ClothBuilder::grid(100, 100, 0.01)
+            .build(&BurnMaterial::COTTON, Affine3A::IDENTITY)
+            .unwrap();
+        let (mut particles, mut topology) = (parts.particles, parts.topology);
+        for (i, p) in particles.position.iter_mut().enumerate() {
+            let (x, y) = ((i % 100) as f32, (i / 100) as f32);
+            p.z = 0.03 * (0.37 * x).sin() * (0.23 * y).cos() + 0.002 * (7.1 * x + 3.3 * y).sin();
+        }
+        for row in 40..46 {
+            for column in 30..37 {
+                particles.state[row * 100 + column] = BurnState::Burnt;
+            }
+        }
+        if shuffled {
+            // A fixed scramble: every 7th triangle, wrapping round.
+            let n = topology.triangles.len();
+            let order: Vec<usize> = (0..n).map(|k| (k * 7919) % n).collect();
+            topology.triangles = order.iter().map(|&k| topology.triangles[k]).collect();
+        }
+        (particles, topology)
+    }
+
+    #[test]
+    fn normals_are_area_weighted_and_the_same_on_any_number_of_threads() {
+        for shuffled in [false, true] {
+            let (particles, topology) = crumpled(shuffled);
+            let update = |pool: Option<&TaskPool>| {
+                let mut mesh = MeshData::default();
+                let m = &BurnMaterial::COTTON;
+                mesh.update(&particles, &topology, m, Affine3A::IDENTITY, pool);
+                mesh
+            };
+            let alone = update(None);
+            let parts = alone.face_parts.len();
+            assert_eq!(
+                parts > 1,
+                !shuffled,
+                "grid order is cut in parts, a scramble is not"
+            );
+            let burnt: Vec<bool> = particles.state.iter().map(|s| s.is_burnt()).collect();
+            let reference = reference_normals(&alone.positions, &topology.triangles, &burnt);
+            for (got, want) in alone.normals.iter().zip(&reference) {
+                let error = (0..3)
+                    .map(|k| (f64::from(got[k]) - want[k]).abs())
+                    .fold(0.0, f64::max);
+                assert!(error < 1e-5, "{got:?} against {want:?}");
+            }
+            for threads in [1, 2, 3] {
+                let pool = bevy::tasks::TaskPoolBuilder::new()
+                    .num_threads(threads)
+                    .build();
+                let shared = update(Some(&pool));
+                assert_eq!(shared.normals, alone.normals, "{threads} threads");
+                assert_eq!(shared.positions, alone.positions);
+                assert_eq!(shared.burn, alone.burn);
+            }
+        }
     }
 
     #[test]
