@@ -11,7 +11,7 @@
 //! alone, so the result does not depend on the number of threads.
 
 use super::material::BurnMaterial;
-use super::parallel::{Claims, Disjoint, parts_for, run_phases};
+use super::parallel::{Claims, Disjoint, parts_for, piece, run_phases};
 use super::particles::{BurnState, Particles};
 use super::topology::Topology;
 use bevy::tasks::TaskPool;
@@ -19,9 +19,10 @@ use core::ops::Range;
 use glam::{Affine3A, Vec3, Vec3A};
 
 /// Vertices below which a cloth's mesh is updated on one thread, its triangles as one part.
-/// A mesh bench (a cotton cloth 6 s after lighting, medians of 9 blocks of 200 updates, the
-/// 2-core machine): at 64 x 64 one thread took 0.037 ms; at 128 x 128 0.155 on one thread
-/// and 0.096–0.106 on two, at 256 x 256 0.63 and 0.36–0.44.
+/// A mesh bench (a cotton cloth 6 s after lighting, medians of 9 or 15 blocks of 200
+/// updates, the 2-core machine): at 64 x 64 one thread took 0.037–0.043 ms and two, from
+/// 4 096 vertices, 0.027–0.053 in three runs (not reliably faster); at 128 x 128 0.155 on
+/// one thread and 0.096–0.106 on two, at 256 x 256 0.63 and 0.36–0.44.
 const SERIAL_BELOW: usize = 8192;
 
 /// Vertices per part, at least, of the per-vertex phases of a mesh updated on the pool's
@@ -46,8 +47,8 @@ pub struct MeshData {
     sums: Vec<Vec3A>,
     /// The face phase's parts: their triangles and the vertices those touch.
     face_parts: Vec<FacePart>,
-    /// Vertices and triangles the parts were cut for.
-    cut_for: (usize, usize),
+    /// Vertices and triangles the parts were cut for; `None` before the first update.
+    cut_for: Option<(usize, usize)>,
     claims: Claims,
 }
 
@@ -82,8 +83,7 @@ impl MeshData {
         self.prepare(n, triangles);
         let pool = pool.filter(|_| n >= SERIAL_BELOW);
         let runs = parts_for(pool, n, SMALLEST_PART);
-        let run_size = n.div_ceil(runs).max(1);
-        let run = |item: usize| (item * run_size).min(n)..((item + 1) * run_size).min(n);
+        let run = |item: usize| piece(n, runs, item);
         let parts = self.face_parts.len();
         let sizes = [runs, parts.div_ceil(2), parts / 2, runs];
         let state = &particles.state[..n];
@@ -148,10 +148,10 @@ impl MeshData {
         self.normals.resize(n, [0.0; 3]);
         self.burn.resize(n, [0.0; 2]);
         self.sums.resize(n, Vec3A::ZERO);
-        if self.cut_for == (n, triangles.len()) && !self.face_parts.is_empty() {
+        if self.cut_for == Some((n, triangles.len())) {
             return;
         }
-        self.cut_for = (n, triangles.len());
+        self.cut_for = Some((n, triangles.len()));
         self.face_parts.clear();
         let whole = FacePart {
             triangles: 0..triangles.len(),

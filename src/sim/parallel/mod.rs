@@ -69,8 +69,19 @@ pub fn parts_for(pool: Option<&TaskPool>, n: usize, smallest: usize) -> usize {
 
 /// `slice` cut into `parts` consecutive pieces of nearly equal length.
 pub fn pieces<T>(slice: &mut [T], parts: usize) -> impl Iterator<Item = &mut [T]> {
-    let size = slice.len().div_ceil(parts.max(1)).max(1);
-    slice.chunks_mut(size)
+    slice.chunks_mut(piece_size(slice.len(), parts))
+}
+
+/// The indices of piece `item` of `n` items cut into `parts` as [`pieces`] cuts them (empty
+/// past the last piece): for work that takes its pieces by number.
+pub fn piece(n: usize, parts: usize, item: usize) -> core::ops::Range<usize> {
+    let size = piece_size(n, parts);
+    (item * size).min(n)..((item + 1) * size).min(n)
+}
+
+/// The length of every piece but the last of `n` items cut into `parts`.
+fn piece_size(n: usize, parts: usize) -> usize {
+    n.div_ceil(parts.max(1)).max(1)
 }
 
 mod disjoint;

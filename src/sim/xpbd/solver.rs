@@ -20,7 +20,7 @@ use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
 use crate::sim::forces::ForceParams;
 use crate::sim::guard::GuardSettings;
-use crate::sim::parallel::{Claims, Disjoint, for_each_part, parts_for, pieces, run_phases};
+use crate::sim::parallel::{Claims, Disjoint, for_each_part, parts_for, piece, pieces, run_phases};
 use crate::sim::particles::Particles;
 use crate::sim::springs::{SpringCoefficients, SpringKind, Springs};
 use crate::sim::topology::GridShape;
@@ -735,15 +735,7 @@ impl XpbdSolver {
                     let (start, end) = (rows.start as usize * width, rows.end as usize * width);
                     four(|q| q * quarter + start..q * quarter + end)
                 }
-                _ => {
-                    let (n, size) = (shared.len(), shared.len().div_ceil(parts));
-                    [
-                        (item * size).min(n)..((item + 1) * size).min(n),
-                        0..0,
-                        0..0,
-                        0..0,
-                    ]
-                }
+                _ => [piece(shared.len(), parts, item), 0..0, 0..0, 0..0],
             }
         };
         let (claims, tallies) = (&mut self.claims, &self.tallies);
