@@ -37,31 +37,37 @@ use super::spatial_hash::SpatialHash;
 use super::springs::Springs;
 use glam::Vec3;
 
-/// Heat push weights by the cosine of the direction with world up: (cosine, weight).
-const DIRECTION_WEIGHTS: [(f32, f32); 5] = [
-    (-1.0, 0.25),
-    (-core::f32::consts::FRAC_1_SQRT_2, 0.5),
-    (0.0, 1.0),
-    (core::f32::consts::FRAC_1_SQRT_2, 2.0),
-    (1.0, 4.0),
-];
+/// The heat push's weight by the cosine of its direction with world up, piecewise linear
+/// between the paper's weights: 0.25 straight down (cosine −1), 0.5 on the downward diagonals
+/// (−1/√2), 1 sideways (0), 2 on the upward diagonals (1/√2), 4 straight up (1). By piece,
+/// from the lowest: the cosine at its upper end, the weight there, and the weight's slope.
+const DIRECTION_PIECES: [(f32, f32, f32); 4] = {
+    const DIAGONAL: f32 = core::f32::consts::FRAC_1_SQRT_2;
+    [
+        (-DIAGONAL, 0.5, (0.5 - 0.25) / (1.0 - DIAGONAL)),
+        (0.0, 1.0, (1.0 - 0.5) / DIAGONAL),
+        (DIAGONAL, 2.0, (2.0 - 1.0) / DIAGONAL),
+        (1.0, 4.0, (4.0 - 2.0) / (1.0 - DIAGONAL)),
+    ]
+};
 
 /// Weight of a heat push toward a neighbour whose direction has cosine `cos_up` with world
 /// up: 4 straight up, 2 on the upward diagonals, 1 sideways, 0.5 on the downward
-/// diagonals, 0.25 straight down, linear in between.
+/// diagonals, 0.25 straight down, linear in between (a non-finite cosine counts as sideways).
+/// Without a branch or a division: it runs for every neighbour of every burning particle.
 pub fn direction_weight(cos_up: f32) -> f32 {
     let c = if cos_up.is_finite() {
         cos_up.clamp(-1.0, 1.0)
     } else {
         0.0
     };
-    for pair in DIRECTION_WEIGHTS.windows(2) {
-        let ((c0, w0), (c1, w1)) = (pair[0], pair[1]);
-        if c <= c1 {
-            return w0 + (w1 - w0) * (c - c0) / (c1 - c0);
-        }
-    }
-    DIRECTION_WEIGHTS[DIRECTION_WEIGHTS.len() - 1].1
+    // The piece holding `c`: the count of pieces whose upper end is below it.
+    let piece = DIRECTION_PIECES[..3]
+        .iter()
+        .map(|&(end, _, _)| usize::from(c > end))
+        .sum::<usize>();
+    let (end, weight, slope) = DIRECTION_PIECES[piece];
+    weight - slope * (end - c)
 }
 
 /// Parameters of the paper's heat model for one step.
@@ -399,6 +405,33 @@ mod tests {
             assert!(w >= last);
             last = w;
         }
+    }
+
+    /// The weight is the straight line between the paper's weights at every cosine, as
+    /// interpolated in f64, and meets itself at the corners.
+    #[test]
+    fn weights_are_linear_between_the_papers() {
+        let table = [
+            (-1.0f64, 0.25f64),
+            (-core::f64::consts::FRAC_1_SQRT_2, 0.5),
+            (0.0, 1.0),
+            (core::f64::consts::FRAC_1_SQRT_2, 2.0),
+            (1.0, 4.0),
+        ];
+        for k in 0..=2000 {
+            let c = -1.0 + k as f64 / 1000.0;
+            let pair = table.windows(2).find(|pair| c <= pair[1].0).unwrap();
+            let ((c0, w0), (c1, w1)) = (pair[0], pair[1]);
+            let expected = w0 + (w1 - w0) * (c - c0) / (c1 - c0);
+            let got = f64::from(direction_weight(c as f32));
+            assert!(
+                (got - expected).abs() < 2e-6,
+                "cos {c}: {got} against {expected}"
+            );
+        }
+        assert_eq!(direction_weight(-1.0), 0.25);
+        assert_eq!(direction_weight(2.0), 4.0);
+        assert_eq!(direction_weight(f32::INFINITY), 1.0);
     }
 
     /// Particle 0 on fire at the centre, `spacing` from particles 1 above, 2 to the side and

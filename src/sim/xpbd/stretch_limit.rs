@@ -7,6 +7,13 @@
 //! two below), and bands two apart share no particle. A spring that does not fit (a cut
 //! spring whose end has moved further) goes into a last bucket, corrected on its own after
 //! the bands. A mesh's springs are all in that last bucket.
+//!
+//! Within a grid's bucket the springs go by colour: a family (east, south, the two
+//! diagonals) and the parity of its first end's column (east) or row (the others), so the
+//! springs of one colour share no particle. A pass then rarely reads what the spring before
+//! it has just moved, and the processor corrects several springs at once instead of waiting
+//! for each in turn (in the grid's spring order, each particle's east, south and diagonal
+//! springs one after another, every correction waited for the one before).
 
 use super::lanes::{GridLanes, GridSlots};
 use crate::sim::particles::Particles;
@@ -16,6 +23,10 @@ use core::sync::atomic::{AtomicU32, Ordering};
 
 /// Bits of a packed end that hold the index within its quarter grid; the quarter is above.
 const INDEX_BITS: u32 = 30;
+
+/// Colours of a grid's bucket: east, south, south-east and south-west springs, each by the
+/// parity of its first end's column (east) or row (the rest), and one for any other spring.
+const COLOURS: usize = 9;
 
 /// A spring under the stretch limit for one frame: its ends (as slots, and packed: quarter
 /// grid and index from the first row of its bucket's reach) and their inverse masses, and its
@@ -50,6 +61,8 @@ struct GridPlaces {
     home: Vec<u32>,
     /// Each band's first row and the end of its reach.
     reach: Vec<(u32, u32)>,
+    /// Particles per grid row.
+    columns: u32,
 }
 
 /// The frame's limited springs, by bucket (a grid's bands, then one for the rest), and the
@@ -58,9 +71,11 @@ struct GridPlaces {
 pub(super) struct LimitedSprings {
     places: GridPlaces,
     springs: Vec<LimitedSpring>,
-    /// Where each bucket starts in `springs`; one entry more than there are buckets.
+    /// Where each colour of each bucket starts in `springs` (bucket `b`'s colour `c` at
+    /// `b × COLOURS + c`); one entry more than there are colours in all.
     start: Vec<u32>,
-    /// Scratch for sorting: each spring with its bucket, and where each bucket's next goes.
+    /// Scratch for sorting: each spring with its bucket and colour, and where each one's next
+    /// goes.
     gathered: Vec<(u32, LimitedSpring)>,
     next: Vec<u32>,
 }
@@ -92,14 +107,15 @@ impl LimitedSprings {
                         .iter()
                         .map(|band| (band.reach.start, band.reach.end))
                         .collect(),
+                    columns,
                 }
             }
             None => GridPlaces::default(),
         };
-        let buckets = self.buckets();
+        let keys = self.buckets() * COLOURS;
         for list in [&mut self.start, &mut self.next] {
             list.clear();
-            list.reserve(buckets + 1);
+            list.reserve(keys + 1);
         }
         self.springs.clear();
         self.springs.reserve(springs);
@@ -126,7 +142,7 @@ impl LimitedSprings {
     /// Whether the last bucket (springs outside any band, or a mesh's) has springs.
     pub fn has_rest(&self) -> bool {
         let n = self.start.len();
-        n >= 2 && self.start[n - 1] > self.start[n - 2]
+        n > COLOURS && self.start[n - 1] > self.start[n - 1 - COLOURS]
     }
 
     /// Heap memory held, bytes.
@@ -144,7 +160,7 @@ impl LimitedSprings {
 
     /// This frame's springs: those of `list` that are in-plane, live and have a movable end
     /// (inverse masses `w` by particle, slots `slot`), allowed `scale ×` their rest length,
-    /// in `list`'s order within each bucket.
+    /// by colour within each bucket, in `list`'s order within each colour.
     pub fn gather(
         &mut self,
         list: &[u32],
@@ -153,11 +169,11 @@ impl LimitedSprings {
         (w, slot): (&[f32], &[u32]),
         scale: f32,
     ) {
-        let buckets = self.buckets();
+        let keys = self.buckets() * COLOURS;
         self.springs.clear();
         self.gathered.clear();
         self.start.clear();
-        self.start.resize(buckets + 1, 0);
+        self.start.resize(keys + 1, 0);
         for &s in list {
             let s = s as usize;
             if s >= springs.len()
@@ -174,9 +190,10 @@ impl LimitedSprings {
             let limit = scale * springs.rest_length[s];
             let past = limit * (1.0 + STRETCH_TOLERANCE);
             let (bucket, packed) = self.places.place(i as u32, j as u32, slot);
-            self.start[bucket as usize + 1] += 1;
+            let key = bucket * COLOURS as u32 + self.places.colour(i as u32, j as u32);
+            self.start[key as usize + 1] += 1;
             self.gathered.push((
-                bucket,
+                key,
                 LimitedSpring {
                     slots: [slot[i], slot[j]],
                     packed,
@@ -187,15 +204,15 @@ impl LimitedSprings {
                 },
             ));
         }
-        for k in 1..=buckets {
+        for k in 1..=keys {
             self.start[k] += self.start[k - 1];
         }
         self.next.clear();
-        self.next.extend_from_slice(&self.start[..buckets]);
+        self.next.extend_from_slice(&self.start[..keys]);
         self.springs
             .resize(self.gathered.len(), LimitedSpring::default());
-        for &(bucket, spring) in &self.gathered {
-            let at = &mut self.next[bucket as usize];
+        for &(key, spring) in &self.gathered {
+            let at = &mut self.next[key as usize];
             self.springs[*at as usize] = spring;
             *at += 1;
         }
@@ -229,6 +246,30 @@ impl GridPlaces {
         let offset = first * slots.width();
         (bucket, [self.home[i] - offset, self.home[j] - offset])
     }
+
+    /// The colour of the spring joining particles `i` and `j` within its bucket: springs of
+    /// one colour share no particle (a mesh's springs are all of colour 0).
+    fn colour(&self, i: u32, j: u32) -> u32 {
+        if self.slots.is_none() || self.columns == 0 {
+            return 0;
+        }
+        let cell = |p: u32| {
+            let row = self.row_of[p as usize];
+            (row, p - row * self.columns)
+        };
+        // The spring from its upper end, or from its left end on one row.
+        let ((r0, c0), (r1, c1)) = {
+            let (a, b) = (cell(i), cell(j));
+            if a <= b { (a, b) } else { (b, a) }
+        };
+        match (r1 - r0, i64::from(c1) - i64::from(c0)) {
+            (0, 1) => c0 % 2,
+            (1, 0) => 2 + r0 % 2,
+            (1, 1) => 4 + r0 % 2,
+            (1, -1) => 6 + r0 % 2,
+            _ => COLOURS as u32 - 1,
+        }
+    }
 }
 
 /// The buckets as the threads of a frame's passes read them.
@@ -240,12 +281,13 @@ pub(super) struct SharedBuckets<'a> {
 impl<'a> SharedBuckets<'a> {
     /// Bucket `bucket`'s springs.
     pub fn bucket(&self, bucket: usize) -> &'a [LimitedSpring] {
-        &self.springs[self.start[bucket] as usize..self.start[bucket + 1] as usize]
+        let (first, end) = (bucket * COLOURS, (bucket + 1) * COLOURS);
+        &self.springs[self.start[first] as usize..self.start[end] as usize]
     }
 
     /// The last bucket: springs outside any band, or a mesh's.
     pub fn rest(&self) -> usize {
-        self.start.len().saturating_sub(2)
+        (self.start.len() / COLOURS).saturating_sub(1)
     }
 }
 
@@ -492,6 +534,45 @@ mod tests {
                 assert_eq!(springs.len(), 1, "only the long spring is left over");
             }
         }
+    }
+
+    /// Within a grid's bucket the springs of one colour share no particle, and every spring
+    /// keeps its bucket: the colours only order a bucket's springs.
+    #[test]
+    fn springs_of_one_colour_share_no_particle() {
+        let (columns, rows) = (21u32, 40u32);
+        let (particles, springs) = grid(columns, rows);
+        let slots = GridSlots::new(crate::sim::topology::GridShape { columns, rows });
+        let lanes = GridLanes::new(slots, 8);
+        let slot: Vec<u32> = (0..columns * rows)
+            .map(|i| slots.slot(i % columns, i / columns))
+            .collect();
+        let list: Vec<u32> = (0..springs.len() as u32).collect();
+        let w = vec![1.0f32; particles.len()];
+        let mut limited = LimitedSprings::default();
+        limited.prepare(Some((&lanes, slots, columns)), springs.len());
+        limited.gather(&list, &particles, &springs, (&w, &slot), 1.1);
+        let buckets = limited.share();
+        let mut coloured = 0;
+        for bucket in 0..=buckets.rest() {
+            for colour in 0..COLOURS {
+                let key = bucket * COLOURS + colour;
+                let range = limited.start[key] as usize..limited.start[key + 1] as usize;
+                let mut ends: Vec<u32> = limited.springs[range.clone()]
+                    .iter()
+                    .flat_map(|spring| spring.slots)
+                    .collect();
+                let count = ends.len();
+                ends.sort_unstable();
+                ends.dedup();
+                if colour < COLOURS - 1 {
+                    assert_eq!(ends.len(), count, "bucket {bucket}, colour {colour}");
+                    coloured += range.len();
+                }
+            }
+        }
+        // Every in-plane spring of an uncut grid has a colour of its own family.
+        assert_eq!(coloured, limited.springs.len());
     }
 
     /// Enough rounds over a patch of shrunk springs, stretched at random, leave none longer
