@@ -97,9 +97,17 @@ fn embers_come_from_particles_that_just_burnt() {
     let mut cloth = row_cloth(&position, &temperature, &state);
     let newly_burnt = [3u32];
     cloth.newly_burnt = &newly_burnt;
+    // 15 embers per square metre, and the particle stands for 0.1 m².
     let settings = SmokeSettings::default()
         .with_kind(SmokeKind::Flame, KindSettings::NONE)
-        .with_kind(SmokeKind::Smoke, KindSettings::NONE);
+        .with_kind(SmokeKind::Smoke, KindSettings::NONE)
+        .with_kind(
+            SmokeKind::Ember,
+            KindSettings {
+                rate: 15.0,
+                ..KindSettings::EMBER
+            },
+        );
     let mut sim = SmokeSim::new(settings).unwrap();
     let mut embers = 0;
     for _ in 0..100 {
@@ -110,6 +118,41 @@ fn embers_come_from_particles_that_just_burnt() {
     for slot in sim.pool.live_slots() {
         assert_eq!(sim.pool.kind[slot], SmokeKind::Ember);
         assert!(sim.pool.position[slot].distance(position[3]) <= settings.birth_radius + 1e-6);
+    }
+}
+
+/// The same area burnt away throws the same embers at any spacing: 0.36 m² burnt as 400
+/// particles 30 mm apart or as 1 600 particles 15 mm apart gives the default's 1 200 a square
+/// metre, 432 embers, both ways (each particle's draw is its whole part plus one with the
+/// chance of its fraction, so the counts differ from 432 by a few tens at most).
+#[test]
+fn embers_follow_the_area_burnt_not_the_particles() {
+    let settings = SmokeSettings::default()
+        .with_kind(SmokeKind::Flame, KindSettings::NONE)
+        .with_kind(SmokeKind::Smoke, KindSettings::NONE)
+        .with_capacity(4096);
+    for (spacing, particles) in [(0.03f32, 400usize), (0.015, 1600)] {
+        let position = vec![Vec3::ZERO; particles];
+        let material = BurnMaterial::COTTON;
+        let temperature = vec![material.burnt_temperature + 1.0; particles];
+        let state = vec![BurnState::Burnt; particles];
+        let newly_burnt: Vec<u32> = (0..particles as u32).collect();
+        let cloth = BurningCloth {
+            position: &position,
+            temperature: &temperature,
+            state: &state,
+            newly_burnt: &newly_burnt,
+            ignition_temperature: material.ignition_temperature,
+            burnt_temperature: material.burnt_temperature,
+            area_per_particle: spacing * spacing,
+        };
+        let mut sim = SmokeSim::new(settings).unwrap();
+        let embers = sim.emit(&cloth, &Air::default(), DT).born[SmokeKind::Ember as usize];
+        let expected = KindSettings::EMBER.rate * 0.36;
+        assert!(
+            (embers as f32 - expected).abs() < 0.1 * expected,
+            "{embers} embers at {spacing} m spacing, {expected} expected"
+        );
     }
 }
 

@@ -69,6 +69,9 @@ impl<'a> BurningCloth<'a> {
     }
 }
 
+/// Slots of the pool [`SmokeSim::advance_in`] passes over at once when none is alive.
+const DEAD_RUN: usize = 32;
+
 /// Share of the curl-noise turbulence kept inside a simulated plume, whose grid resolves the
 /// large eddies itself: the rest is detail smaller than a cell.
 const SUBGRID_EDDIES: f32 = 0.35;
@@ -160,7 +163,8 @@ impl SmokeSim {
 
     /// Births over `dt` seconds: flames and smoke from every ignited, unburnt particle at a
     /// rate proportional to how hard it burns and the area it stands for; embers from the
-    /// particles that burnt away this step. A cloth with nothing on fire emits nothing.
+    /// particles that burnt away this step, by the area each stood for. A cloth with nothing
+    /// on fire emits nothing.
     pub fn emit(&mut self, cloth: &BurningCloth, air: &Air, dt: f32) -> SmokeCounts {
         let mut counts = SmokeCounts::default();
         if !(dt.is_finite() && dt > 0.0) {
@@ -196,7 +200,8 @@ impl SmokeSim {
                 counts.born[kind as usize] += count;
             }
         }
-        let ember_rate = self.settings.of(SmokeKind::Ember).rate;
+        // Embers per square metre burnt away: the same sparks per hole at any spacing.
+        let embers_per_particle = self.settings.of(SmokeKind::Ember).rate * area;
         for &i in cloth.newly_burnt {
             let Some(&source) = cloth.position.get(i as usize) else {
                 continue;
@@ -204,7 +209,7 @@ impl SmokeSim {
             if !source.is_finite() {
                 continue;
             }
-            let count = self.draw_count(ember_rate);
+            let count = self.draw_count(embers_per_particle);
             for _ in 0..count {
                 self.spawn(
                     SmokeKind::Ember,
@@ -284,39 +289,51 @@ impl SmokeSim {
         let time = self.time;
         let cooled: [f32; 3] =
             core::array::from_fn(|k| (-self.settings.kind[k].cooling * dt).exp());
-        for slot in 0..self.pool.capacity() {
-            if !self.pool.alive[slot] {
+        let capacity = self.pool.capacity();
+        // A pool is mostly empty while a fire is small: runs of dead slots are passed over
+        // a run at a time.
+        for run in (0..capacity).step_by(DEAD_RUN) {
+            let slots = run..(run + DEAD_RUN).min(capacity);
+            if !self.pool.alive[slots.clone()]
+                .iter()
+                .fold(false, |any, &alive| any | alive)
+            {
                 continue;
             }
-            self.pool.age[slot] += dt;
-            if self.pool.age[slot] >= self.pool.lifetime[slot] {
-                self.pool.kill(slot);
-                counts.died += 1;
-                continue;
+            for slot in slots {
+                if !self.pool.alive[slot] {
+                    continue;
+                }
+                self.pool.age[slot] += dt;
+                if self.pool.age[slot] >= self.pool.lifetime[slot] {
+                    self.pool.kill(slot);
+                    counts.died += 1;
+                    continue;
+                }
+                let kind = self.pool.kind[slot] as usize;
+                let settings: &KindSettings = &self.settings.kind[kind];
+                let temperature = ambient + (self.pool.temperature[slot] - ambient) * cooled[kind];
+                let position = self.pool.position[slot];
+                let eddies = self.turbulence.velocity(position, time) * settings.turbulence;
+                let (air_velocity, buoyancy) = match flow(position) {
+                    Some(plume) => (air.wind + plume + eddies * SUBGRID_EDDIES, 0.0),
+                    None => (air.wind + eddies, settings.buoyancy),
+                };
+                let acceleration = up * (buoyancy * (temperature - ambient) * 1e-3)
+                    + air.gravity * settings.gravity_scale;
+                let velocity = (self.pool.velocity[slot]
+                    + dt * (acceleration + settings.drag * air_velocity))
+                    / (1.0 + dt * settings.drag);
+                let position = position + velocity * dt;
+                if !(position.is_finite() && velocity.is_finite()) {
+                    self.pool.kill(slot);
+                    counts.died += 1;
+                    continue;
+                }
+                self.pool.temperature[slot] = temperature;
+                self.pool.velocity[slot] = velocity;
+                self.pool.position[slot] = position;
             }
-            let kind = self.pool.kind[slot] as usize;
-            let settings: &KindSettings = &self.settings.kind[kind];
-            let temperature = ambient + (self.pool.temperature[slot] - ambient) * cooled[kind];
-            let position = self.pool.position[slot];
-            let eddies = self.turbulence.velocity(position, time) * settings.turbulence;
-            let (air_velocity, buoyancy) = match flow(position) {
-                Some(plume) => (air.wind + plume + eddies * SUBGRID_EDDIES, 0.0),
-                None => (air.wind + eddies, settings.buoyancy),
-            };
-            let acceleration = up * (buoyancy * (temperature - ambient) * 1e-3)
-                + air.gravity * settings.gravity_scale;
-            let velocity = (self.pool.velocity[slot]
-                + dt * (acceleration + settings.drag * air_velocity))
-                / (1.0 + dt * settings.drag);
-            let position = position + velocity * dt;
-            if !(position.is_finite() && velocity.is_finite()) {
-                self.pool.kill(slot);
-                counts.died += 1;
-                continue;
-            }
-            self.pool.temperature[slot] = temperature;
-            self.pool.velocity[slot] = velocity;
-            self.pool.position[slot] = position;
         }
         self.time += dt;
         counts

@@ -8,7 +8,8 @@ use core::fmt;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KindSettings {
     /// Birth rate. Flames and smoke: particles per second per square metre of cloth burning
-    /// at full intensity. Embers: particles per cloth particle that burns away.
+    /// at full intensity. Embers: particles per square metre of cloth that burns away (so a
+    /// fine cloth throws as many sparks from a hole as a coarse one, not more per particle).
     pub rate: f32,
     /// Shortest and longest lifetime, s; each particle draws one in between.
     pub lifetime: [f32; 2],
@@ -63,9 +64,10 @@ impl KindSettings {
         colour: [[0.16, 0.15, 0.14, 0.55], [0.45, 0.45, 0.46, 0.0]],
     };
 
-    /// Embers: a few small sparks per burnt particle, floating up while hot, falling later.
+    /// Embers: small sparks where cloth burns away (1 200 per square metre: 1.5 per particle
+    /// of a cloth 35 mm apart), floating up while hot, falling later.
     pub const EMBER: Self = Self {
-        rate: 1.5,
+        rate: 1200.0,
         lifetime: [1.0, 2.5],
         rise_speed: 0.5,
         spread_speed: 0.6,
