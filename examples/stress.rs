@@ -9,7 +9,8 @@
 //! `-- --physical-heat-only`: the same under `HeatModel::PHYSICAL` (its flame front);
 //! `--sizes 32 64`: only those sizes in the size table, or plume grids with `--plume-only`
 //! (for profiling one);
-//! `-- --many-only`: the twenty-cloth scene alone; `-- --smoke-only` (with `smoke`): the smoke
+//! `-- --many-only`: the twenty-cloth scene alone; `-- --wake-only`: what handing a task to
+//! the compute pool costs after it has idled; `-- --smoke-only` (with `smoke`): the smoke
 //! pool's table alone; `-- --plume-only` (with `fluid`): the plume's
 //! tables alone (its cost by grid size, and its pull on cloths by size).
 //!
@@ -565,6 +566,10 @@ fn main() {
         many_cloths_table();
         return;
     }
+    if std::env::args().any(|a| a == "--wake-only") {
+        wake_table(pool);
+        return;
+    }
     if std::env::args().any(|a| a == "--smoke-only") {
         #[cfg(feature = "smoke")]
         smoke_table();
@@ -585,6 +590,7 @@ fn main() {
         HeatModel::default(),
     );
     many_cloths_table();
+    wake_table(pool);
     #[cfg(feature = "smoke")]
     smoke_table();
     #[cfg(feature = "fluid")]
@@ -592,4 +598,62 @@ fn main() {
         plume_table(pool);
         pull_table(pool);
     }
+}
+
+/// What handing work to the compute pool costs, by how long the pool has been idle: one
+/// task spawned in a scope while the calling thread works on for 60 µs (as a small cloth's
+/// step would), 300 times. "spawn" is how long the spawn kept the caller; "task starts" how
+/// long after the scope opened a pool thread began the task (up to the caller's 60 µs, when
+/// the caller runs it itself); "scope" the whole scope. These decide how small a job is
+/// worth sharing: a 32 x 32 cloth's whole frame is about 150 µs.
+fn wake_table(pool: &TaskPool) {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    println!(
+        "Handing work to the compute pool ({} thread(s)), medians of 300:
+",
+        pool.thread_num()
+    );
+    println!(
+        "| pool idle before | spawn, µs | task starts after, µs (10th–90th percentile) | scope, µs (caller works 60) |"
+    );
+    println!("|---|---|---|---|");
+    let micros = |ns: u64| ns as f64 / 1e3;
+    for idle in [0u64, 100, 1_000, 16_000] {
+        let (mut spawn, mut start, mut whole) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..300 {
+            std::thread::sleep(Duration::from_micros(idle));
+            let opened = Instant::now();
+            let (started, spawned) = (AtomicU64::new(0), AtomicU64::new(0));
+            pool.scope(|scope| {
+                scope.spawn(async {
+                    started.store(opened.elapsed().as_nanos() as u64, Ordering::Release);
+                });
+                spawned.store(opened.elapsed().as_nanos() as u64, Ordering::Release);
+                let until = Instant::now() + Duration::from_micros(60);
+                while Instant::now() < until {
+                    std::hint::spin_loop();
+                }
+            });
+            whole.push(opened.elapsed().as_nanos() as u64);
+            spawn.push(spawned.load(Ordering::Acquire));
+            start.push(started.load(Ordering::Acquire));
+        }
+        for list in [&mut spawn, &mut start, &mut whole] {
+            list.sort_unstable();
+        }
+        let idle = match idle {
+            0 => "none".to_string(),
+            1..1_000 => format!("{idle} µs"),
+            _ => format!("{} ms", idle / 1_000),
+        };
+        println!(
+            "| {idle} | {:.1} | {:.1} ({:.1}–{:.1}) | {:.1} |",
+            micros(spawn[150]),
+            micros(start[150]),
+            micros(start[30]),
+            micros(start[270]),
+            micros(whole[150]),
+        );
+    }
+    println!();
 }
