@@ -10,8 +10,10 @@ use bevy::tasks::TaskPool;
 use core::sync::atomic::{AtomicU32, Ordering};
 
 /// Feeds `plume` from one cloth over `dt` seconds. A burning particle burns its mass `m`
-/// away over `τ = (T_burnt − T_ignition) / self_heating_rate` seconds (the material's own
-/// burn time), so it gives the air `χ ΔH_c m dt / τ` joules (heat of combustion `ΔH_c`,
+/// away over `τ = (T_burnt − T_ignition) / self_heating_rate` seconds (the time its
+/// self-heating alone takes to burn it; several times the [`BurnMaterial::burn_time`] a
+/// particle is drawn burning for, so a particle feeds the plume a fraction of its mass's heat
+/// before it burns away), so it gives the air `χ ΔH_c m dt / τ` joules (heat of combustion `ΔH_c`,
 /// convective fraction `χ`) and `yield × m dt / τ` of smoke at its position: the heat a
 /// cloth gives off is the heat in the mass it burns, at any resolution. Returns the heat
 /// given, J.

@@ -10,7 +10,7 @@ use serde::de::DeserializeSeed;
 
 /// The first lines of every file [`material_to_ron`] writes.
 const HEADER: &str = "\
-// A bevy_burning_cloth material (BurnMaterial). Units: kg/m², N/m, N·s/m³, °C, 1/s, °C/s,
+// A bevy_burning_cloth material (BurnMaterial). Units: kg/m², N/m, N·s/m³, °C, 1/s, °C/s, s,
 // N/(m·s·°C), m/s; each field is documented on BurnMaterial. Loaded by BurnMaterialLoader.
 ";
 

@@ -222,6 +222,7 @@ fn single_particle(position: Vec3, velocity: Vec3) -> Particles {
         inv_mass: vec![0.0, 1.0],
         temperature: vec![20.0; 2],
         state: vec![BurnState::Intact; 2],
+        burning_for: vec![0.0; 2],
         anchor: vec![Vec3::ZERO; 2],
         external_force: vec![Vec3::ZERO; 2],
     }

@@ -265,10 +265,23 @@ impl Front {
         }
     }
 
-    /// Updates burn states from temperatures (ignited strictly above the ignition
-    /// temperature, burnt strictly above the burnt temperature; burnt is final; an ignited
-    /// particle cooled below ignition is intact again), over every particle. Appends the
-    /// particles burnt in this step (by temperature, or set burnt from outside since the last
+    /// Updates burn states from temperatures and the time on fire, over every particle:
+    /// ignited strictly above the ignition temperature; an ignited particle burnt once it is
+    /// strictly above the burnt temperature and has been on fire for the material's
+    /// [`burn_time`](BurnMaterial::burn_time) (its clock, [`Particles::burning_for`], runs on by
+    /// `h` seconds each scan); an intact particle strictly above the burnt temperature (set
+    /// from outside) burnt at once; burnt is final; an ignited particle cooled below ignition
+    /// is intact again, its clock back to zero.
+    ///
+    /// The two conditions, each the later: on a fine grid the front crosses a particle's patch
+    /// quickly and its temperature passes the burnt one early, and the particle glows on
+    /// (spent: it no longer pushes heat, see [`super::heat`]) until its burn time is up, so
+    /// the band of burning cloth behind the front is as wide in metres as on the reference
+    /// grid; on a coarse grid the front takes longer to cross than the burn time, and the
+    /// particle burns as long as the front is inside its patch, as the physical model's flame
+    /// keeps it.
+    ///
+    /// Appends the particles burnt in this step (or set burnt from outside since the last
     /// step) to `newly_burnt`; keeps the list of particles on fire; starts the springs of
     /// newly warm particles shrinking; counts burnt particles and pins left.
     pub fn scan(
@@ -276,6 +289,7 @@ impl Front {
         particles: &mut Particles,
         springs: &Springs,
         material: &BurnMaterial,
+        h: f32,
         newly_burnt: &mut Vec<u32>,
     ) -> (CombustionReport, Counts) {
         let mut report = CombustionReport::default();
@@ -286,7 +300,11 @@ impl Front {
             material.burnt_temperature,
             material.initial_temperature,
         );
+        let burn_time = material.burn_time;
+        let h = if h.is_finite() { h.max(0.0) } else { 0.0 };
         let n = particles.len();
+        // Particles built by hand may lack clocks: they start at zero.
+        particles.burning_for.resize(n, 0.0);
         let mut first = 0;
         while first < n {
             let end = (first + SETTLED_RUN).min(n);
@@ -302,12 +320,22 @@ impl Front {
             for i in first..end {
                 let t = particles.temperature[i];
                 let state = particles.state[i];
+                let clock = &mut particles.burning_for[i];
+                if state == BurnState::Ignited {
+                    *clock += h;
+                }
                 let next = match state {
                     BurnState::Burnt => BurnState::Burnt,
-                    _ if t > burnt_above => BurnState::Burnt,
+                    BurnState::Intact if t > burnt_above => BurnState::Burnt,
+                    BurnState::Ignited if t > burnt_above && *clock >= burn_time => {
+                        BurnState::Burnt
+                    }
                     _ if t > ignition => BurnState::Ignited,
                     _ => BurnState::Intact,
                 };
+                if next == BurnState::Intact {
+                    *clock = 0.0;
+                }
                 if next == BurnState::Burnt {
                     counts.burnt += 1;
                     if !self.gone[i] {
@@ -557,6 +585,9 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
+    /// The step between scans, s.
+    const STEP: f32 = 1.0 / 60.0;
+
     /// `n` particles in a row 5 cm apart, none pinned, at the initial temperature of
     /// `material`, with the springs `pairs`.
     fn row(
@@ -571,6 +602,7 @@ mod tests {
             inv_mass: vec![1.0; n],
             temperature: vec![material.initial_temperature; n],
             state: vec![BurnState::Intact; n],
+            burning_for: vec![0.0; n],
             anchor: position.clone(),
             external_force: vec![Vec3::ZERO; n],
             position,
@@ -590,7 +622,7 @@ mod tests {
     ) -> (CombustionReport, Vec<u32>) {
         front.prepare(particles, springs, &mut Topology::default());
         let mut newly_burnt = Vec::new();
-        let (report, _) = front.scan(particles, springs, material, &mut newly_burnt);
+        let (report, _) = front.scan(particles, springs, material, STEP, &mut newly_burnt);
         (report, newly_burnt)
     }
 
@@ -630,11 +662,11 @@ mod tests {
         // and temperature written back): it leaves the list though its run is calm again.
         let mut newly_burnt = Vec::new();
         particles.temperature[40] = material.ignition_temperature + 1.0;
-        front.scan(&mut particles, &springs, &material, &mut newly_burnt);
+        front.scan(&mut particles, &springs, &material, STEP, &mut newly_burnt);
         assert_eq!(front.ignited(), [40]);
         particles.state[40] = BurnState::Intact;
         particles.temperature[40] = material.initial_temperature;
-        front.scan(&mut particles, &springs, &material, &mut newly_burnt);
+        front.scan(&mut particles, &springs, &material, STEP, &mut newly_burnt);
         assert!(front.ignited().is_empty());
         let (mut warm, mut seen_burnt) = (front.warm.clone(), vec![false; n]);
         let mut seed = 7u32;
@@ -677,7 +709,8 @@ mod tests {
             }
             let before = particles.state.clone();
             let mut newly_burnt = Vec::new();
-            let (_, counts) = front.scan(&mut particles, &springs, &material, &mut newly_burnt);
+            let (_, counts) =
+                front.scan(&mut particles, &springs, &material, STEP, &mut newly_burnt);
             let mut expected_burnt = Vec::new();
             for i in 0..n {
                 let t = particles.temperature[i];
@@ -713,6 +746,56 @@ mod tests {
         }
     }
 
+    /// An ignited particle burns away when it is past the burnt temperature and has been on
+    /// fire for the material's burn time, whichever comes later; an intact one set past the
+    /// burnt temperature burns away at once; one put out is intact with its clock at zero.
+    #[test]
+    fn a_particle_on_fire_burns_away_after_its_burn_time_and_its_temperature() {
+        let material = BurnMaterial::COTTON;
+        let (mut particles, mut springs) = row(4, &material, &[]);
+        let hot = material.burnt_temperature + 1.0;
+        let burning = 0.5 * (material.ignition_temperature + material.burnt_temperature);
+        // 0 past the burnt temperature from its first step on fire (a fine grid); 1 on fire
+        // but below it (a coarse grid's slow front); 2 intact, set past it; 3 on fire, put out.
+        particles.temperature = vec![burning, burning, hot, burning];
+        let mut front = Front::default();
+        scanned(&mut front, &mut particles, &mut springs, &material);
+        particles.temperature[0] = hot;
+        // The scans until the clock, counting up by the step, reaches the burn time.
+        let mut steps = 0;
+        let mut clock = 0.0_f32;
+        while clock < material.burn_time {
+            clock += STEP;
+            steps += 1;
+        }
+        let mut burnt_at = [None; 4];
+        for step in 1..=2 * steps {
+            if step == 3 {
+                particles.temperature[3] = material.initial_temperature;
+            }
+            if step == 2 * steps - 1 {
+                particles.temperature[1] = hot;
+            }
+            front.scan(&mut particles, &springs, &material, STEP, &mut Vec::new());
+            for (i, at) in burnt_at.iter_mut().enumerate() {
+                if particles.state[i].is_burnt() && at.is_none() {
+                    *at = Some(step);
+                }
+            }
+        }
+        assert!(particles.burning_for[0] >= material.burn_time);
+        assert_eq!(burnt_at[0], Some(steps), "after the burn time");
+        assert_eq!(
+            burnt_at[1],
+            Some(2 * steps - 1),
+            "when it got past the temperature"
+        );
+        assert_eq!(burnt_at[2], Some(1), "at once");
+        assert_eq!(burnt_at[3], None);
+        assert_eq!(particles.state[3], BurnState::Intact);
+        assert_eq!(particles.burning_for[3], 0.0);
+    }
+
     #[test]
     fn burnt_is_final_reported_once_and_counted() {
         let material = BurnMaterial::PAPER;
@@ -720,13 +803,15 @@ mod tests {
         particles.inv_mass[0] = 0.0;
         particles.state[0] = BurnState::Ignited;
         particles.temperature[0] = material.burnt_temperature + 1.0;
+        particles.burning_for[0] = material.burn_time;
         let mut front = Front::default();
         let (report, burnt) = scanned(&mut front, &mut particles, &mut springs, &material);
         assert_eq!((report.newly_burnt, burnt), (1, vec![0]));
         assert!(front.ignited().is_empty());
         particles.temperature[0] = 20.0;
         let mut newly_burnt = Vec::new();
-        let (report, counts) = front.scan(&mut particles, &springs, &material, &mut newly_burnt);
+        let (report, counts) =
+            front.scan(&mut particles, &springs, &material, STEP, &mut newly_burnt);
         assert_eq!(particles.state[0], BurnState::Burnt);
         assert_eq!(report.newly_burnt, 0);
         assert!(newly_burnt.is_empty());
@@ -760,7 +845,7 @@ mod tests {
         assert!(front.shrinking().is_empty());
         particles.temperature.fill(900.0);
         particles.state.fill(BurnState::Ignited);
-        front.scan(&mut particles, &springs, &material, &mut Vec::new());
+        front.scan(&mut particles, &springs, &material, STEP, &mut Vec::new());
         front.shrink(&mut springs, &particles, &material, &coefficients, 0.01);
         let expected = 0.05
             - material.shrink_factor * 0.01 * 0.05 * 2.0 * (900.0 - material.initial_temperature)
@@ -802,7 +887,7 @@ mod tests {
         // Spring 0 a trace warmer than the cloth, spring 1 on fire.
         let t0 = material.initial_temperature;
         particles.temperature = vec![t0 + 0.01, t0 + 0.01, 900.0, 900.0];
-        front.scan(&mut particles, &springs, &material, &mut Vec::new());
+        front.scan(&mut particles, &springs, &material, STEP, &mut Vec::new());
         assert_eq!(front.shrinking().len(), 2, "both are warm");
         let h = 1.0 / 60.0;
         let mut joined = None;
@@ -838,7 +923,7 @@ mod tests {
         scanned(&mut front, &mut particles, &mut springs, &material);
         let mut heat_and_shrink = |particles: &mut Particles, i: usize, t: f32| {
             particles.temperature[i] = t;
-            front.scan(particles, &springs, &material, &mut Vec::new());
+            front.scan(particles, &springs, &material, STEP, &mut Vec::new());
             front.shrink(&mut springs, particles, &material, &coefficients, 0.01);
             front.shrinking().to_vec()
         };
@@ -867,7 +952,7 @@ mod tests {
         assert_eq!(topology.live_triangle_count(), 2);
         particles.temperature[1] = material.burnt_temperature + 1.0;
         let mut burnt = Vec::new();
-        front.scan(&mut particles, &springs, &material, &mut burnt);
+        front.scan(&mut particles, &springs, &material, STEP, &mut burnt);
         assert_eq!(front.sever(&mut springs, &particles.state, &burnt), 1);
         assert!(
             !springs.is_live(1, &particles.state),
@@ -904,6 +989,7 @@ mod tests {
             let i = grid.index(c, r);
             sim.particles.temperature[i] = hot;
             sim.particles.state[i] = BurnState::Ignited;
+            sim.particles.burning_for[i] = BurnMaterial::COTTON.burn_time;
         }
         sim.step(1.0 / 60.0);
         for &(c, r) in burn {

@@ -294,6 +294,7 @@ impl ClothBuilder {
             inv_mass,
             temperature: vec![material.initial_temperature; n],
             state,
+            burning_for: vec![0.0; n],
             anchor,
             external_force: vec![Vec3::ZERO; n],
         };

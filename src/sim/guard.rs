@@ -132,6 +132,7 @@ mod tests {
             inv_mass: vec![1.0; 3],
             temperature: vec![20.0; 3],
             state: vec![BurnState::Intact; 3],
+            burning_for: vec![0.0; 3],
             anchor: vec![Vec3::ZERO; 3],
             external_force: vec![Vec3::ZERO; 3],
         };

@@ -83,6 +83,10 @@ pub struct HeatParams {
     pub initial_temperature: f32,
     /// Temperature above which a particle is on fire, °C: where the push dates a catch.
     pub ignition_temperature: f32,
+    /// Temperature above which a particle on fire is spent, °C: the front has crossed its
+    /// patch, and it pushes no more heat while it glows on to its burn time (see
+    /// [`Front::scan`]).
+    pub burnt_temperature: f32,
     /// World up, unit vector: heat rises along it.
     pub up: Vec3,
     /// Particles this close to a burning one are heated even without a spring, m.
@@ -105,6 +109,7 @@ impl HeatParams {
             self_heating_rate: material.self_heating_rate,
             initial_temperature: material.initial_temperature,
             ignition_temperature: material.ignition_temperature,
+            burnt_temperature: material.burnt_temperature,
             up: Vec3::Y,
             proximity_radius,
             proximity_rate: material.heat_spread_rate,
@@ -206,6 +211,13 @@ impl HeatWorkspace {
     }
 }
 
+/// Whether a particle on fire at `temperature` is spent: past the burnt temperature, so the
+/// front has crossed its patch; it glows on until its burn time is up but heats nothing.
+#[inline]
+fn is_spent(temperature: f32, params: &HeatParams) -> bool {
+    temperature > params.burnt_temperature
+}
+
 /// Adds one step of the paper's push from every particle on fire to its neighbours, and its
 /// self-heating, to the workspace's increments.
 pub fn paper_heat_push(
@@ -224,7 +236,9 @@ pub fn paper_heat_push(
     for &i in front.ignited() {
         let i = i as usize;
         // Put out from outside since the list was made (extinguished): no longer burning.
-        if !state[i].is_ignited() {
+        // Spent (past the burnt temperature, glowing on to its burn time): the front has
+        // crossed it, and it pushes no more, as it did not when it burnt away there.
+        if !state[i].is_ignited() || is_spent(temperature[i], params) {
             continue;
         }
         // A particle that caught during the last step also pushes for the part of it after
@@ -275,7 +289,7 @@ fn for_each_near_fire(
     let hash = core::mem::take(&mut workspace.hash);
     for &i in front.ignited() {
         let i = i as usize;
-        if !state[i].is_ignited() {
+        if !state[i].is_ignited() || is_spent(particles.temperature[i], params) {
             continue;
         }
         hash.for_each_within(position, position[i], radius, |j| {
@@ -457,6 +471,7 @@ mod tests {
             mass,
             temperature: vec![fire, 15.6, 15.6, 15.6],
             state: vec![BurnState::Intact; 4],
+            burning_for: vec![0.0; 4],
             anchor: position.clone(),
             external_force: vec![Vec3::ZERO; 4],
             position,
@@ -468,7 +483,13 @@ mod tests {
         };
         let mut front = Front::default();
         front.prepare(&particles, &mut springs, &mut Default::default());
-        front.scan(&mut particles, &springs, &material, &mut Vec::new());
+        front.scan(
+            &mut particles,
+            &springs,
+            &material,
+            1.0 / 60.0,
+            &mut Vec::new(),
+        );
         assert_eq!(front.ignited(), &[0]);
         (particles, springs, front)
     }
@@ -480,6 +501,7 @@ mod tests {
             self_heating_rate: 0.0,
             initial_temperature: 15.6,
             ignition_temperature: 100.0,
+            burnt_temperature: 500.0,
             up: Vec3::Y,
             proximity_radius: 0.0,
             proximity_rate: 0.0,
@@ -503,6 +525,30 @@ mod tests {
             delta[0], 0.0,
             "the source loses no heat and gains none from cold ones"
         );
+    }
+
+    /// A particle past the burnt temperature that is still on fire (glowing on to its burn
+    /// time) pushes nothing, by springs or across folds, and does not heat itself: the front
+    /// has crossed it, and before burn times it had burnt away there.
+    #[test]
+    fn a_spent_particle_pushes_no_heat() {
+        let params = HeatParams {
+            self_heating_rate: 100.0,
+            proximity_radius: 2.0,
+            proximity_rate: 0.5,
+            ..push_params()
+        };
+        for (fire, pushes) in [(499.0, true), (501.0, false)] {
+            // Scanned on fire at 115.6 °C, then made hotter.
+            let (mut particles, springs, front) = star(1.0, vec![1.0; 4], 115.6, true);
+            particles.temperature[0] = fire;
+            let mut workspace = HeatWorkspace::default();
+            workspace.prepare(4);
+            paper_heat_push(&front, &springs, &particles, &params, 0.1, &mut workspace);
+            proximity_heat_push(&front, &particles, &params, 0.1, &mut workspace);
+            let pushed = workspace.delta.iter().any(|&d| d != 0.0);
+            assert_eq!(pushed, pushes, "at {fire} °C (spent above 500)");
+        }
     }
 
     /// A particle that catches a third of the way through a step pushes, in its first step
@@ -532,7 +578,13 @@ mod tests {
             ..BurnMaterial::CLOTH
         };
         let mut caught = front.clone();
-        caught.scan(&mut particles, &springs, &material, &mut Vec::new());
+        caught.scan(
+            &mut particles,
+            &springs,
+            &material,
+            1.0 / 60.0,
+            &mut Vec::new(),
+        );
         assert_eq!(caught.ignited(), &[0, 1]);
         let before = workspace.delta[0];
         paper_heat_push(&caught, &springs, &particles, &params, h, &mut workspace);
@@ -555,6 +607,7 @@ mod tests {
             self_heating_rate: 0.0,
             initial_temperature: 15.6,
             ignition_temperature: 100.0,
+            burnt_temperature: 1000.0,
             up: Vec3::Y,
             proximity_radius: 1.0,
             proximity_rate: 0.5,

@@ -357,6 +357,7 @@ pub(crate) mod tests {
             inv_mass: vec![0.0, 1.0],
             temperature: vec![20.0; 2],
             state: vec![BurnState::Intact; 2],
+            burning_for: vec![0.0; 2],
             anchor: vec![Vec3::ZERO, Vec3::X],
             external_force: vec![Vec3::ZERO; 2],
         };

@@ -81,6 +81,17 @@ pub struct BurnMaterial {
     /// when the front has crossed to its neighbour at any resolution. (The plume reads the
     /// unscaled rate for how long the material burns.)
     pub self_heating_rate: f32,
+    /// How long a particle of this cloth burns once alight before it burns away, s: the
+    /// width of the burning band behind the front is this time its speed, at any spacing.
+    /// At least: where the front takes longer to cross a particle's patch than this (a grid
+    /// much coarser than [`REFERENCE_SPACING`] under the paper's model, or the slow
+    /// sideways and downward fronts of the physical one), the particle burns on until its
+    /// temperature passes `burnt_temperature` (see [`super::front::Front::scan`]). The
+    /// presets' values are the times the paper's model burnt a particle for at the reference
+    /// spacing before this field existed (median over a flat 1.5 m panel lit near its
+    /// bottom), so a cloth at that spacing burns as it did; a finer one no longer burns
+    /// through faster.
+    pub burn_time: f32,
     /// Rest-length shrink factor, N/(m·s·°C): a spring shrinks by
     /// `factor × dt × l_init × (ΔT_a + ΔT_b) / k` per step (Larboulette's rule).
     pub shrink_factor: f32,
@@ -115,6 +126,7 @@ impl BurnMaterial {
         seed_temperature: PAPER_SEED_TEMPERATURE,
         heat_spread_rate: 0.25,
         self_heating_rate: 260.0,
+        burn_time: 0.8,
         shrink_factor: 0.015,
         min_rest_fraction: 0.5,
         // Generic woven cloth, 200 g/m²: between cotton and denim (no measurement of its own).
@@ -139,6 +151,7 @@ impl BurnMaterial {
         seed_temperature: PAPER_SEED_TEMPERATURE,
         heat_spread_rate: 0.35,
         self_heating_rate: 400.0,
+        burn_time: 0.5,
         shrink_factor: 0.008,
         min_rest_fraction: 0.4,
         // 60 g/m²: lighter than cotton, so quicker (spread on a thin fuel goes as one over its
@@ -164,6 +177,7 @@ impl BurnMaterial {
         seed_temperature: PAPER_SEED_TEMPERATURE,
         heat_spread_rate: 0.15,
         self_heating_rate: 160.0,
+        burn_time: 1.3,
         shrink_factor: 0.03,
         min_rest_fraction: 0.6,
         // 400 g/m²: heavier than cotton, so slower (Figure 9's order; no measurement of its own).
@@ -188,6 +202,7 @@ impl BurnMaterial {
         seed_temperature: PAPER_SEED_TEMPERATURE,
         heat_spread_rate: 0.3,
         self_heating_rate: 350.0,
+        burn_time: 0.5,
         shrink_factor: 0.05,
         min_rest_fraction: 0.3,
         // 80 g/m² paper: about 4 mm/s horizontally, from the mass burning rates in Thomas &
@@ -214,6 +229,7 @@ impl BurnMaterial {
         seed_temperature: PAPER_SEED_TEMPERATURE,
         heat_spread_rate: 0.22,
         self_heating_rate: 240.0,
+        burn_time: 0.8,
         shrink_factor: 0.02,
         min_rest_fraction: 0.5,
         // Vertical cotton panels: about 90 mm/s up, 11 mm/s sideways and 2 mm/s down (Mathur,
@@ -267,6 +283,7 @@ impl BurnMaterial {
             ("air_drag", self.air_drag),
             ("heat_spread_rate", self.heat_spread_rate),
             ("self_heating_rate", self.self_heating_rate),
+            ("burn_time", self.burn_time),
             ("shrink_factor", self.shrink_factor),
             ("flame_spread_up", self.flame_spread_up),
             ("flame_spread_sideways", self.flame_spread_sideways),

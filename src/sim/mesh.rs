@@ -109,7 +109,8 @@ impl MeshData {
                 burn_data(
                     burn,
                     &particles.temperature[run.clone()],
-                    &state[run],
+                    &state[run.clone()],
+                    particles.burning_for.get(run),
                     material,
                 );
                 sums.fill(Vec3A::ZERO);
@@ -189,11 +190,13 @@ fn local_vertices(out: &mut [[f32; 3]], world: &[Vec3], world_to_local: Affine3A
     }
 }
 
-/// Each particle's [`burn_attribute`].
+/// Each particle's [`burn_attribute`] (`burning_for`: each particle's time on fire; `None`
+/// for particles built without clocks, taken as done burning, so char follows temperature).
 fn burn_data(
     out: &mut [[f32; 2]],
     temperature: &[f32],
     state: &[BurnState],
+    burning_for: Option<&[f32]>,
     material: &BurnMaterial,
 ) {
     // [`burn_attribute`] without a branch, so the loop vectorises: both fractions always,
@@ -205,15 +208,41 @@ fn burn_data(
         material.ignition_temperature,
         material.burnt_temperature,
     );
-    for ((out, &t), &s) in out.iter_mut().zip(temperature).zip(state) {
+    let burn_time = material.burn_time;
+    let pixel = |t: f32, s: BurnState, clock: f32| {
         let heat = fraction(t, cold, ignition);
-        let burn = fraction(t, ignition, burnt);
+        let burn = fraction(t, ignition, burnt).min(clock);
         let [heat, burn] = [heat, if s == BurnState::Ignited { burn } else { 0.0 }];
-        *out = if s == BurnState::Burnt {
+        if s == BurnState::Burnt {
             [1.0, 1.0]
         } else {
             [heat, burn]
-        };
+        }
+    };
+    match burning_for {
+        Some(burning_for) => {
+            for (((out, &t), &s), &age) in
+                out.iter_mut().zip(temperature).zip(state).zip(burning_for)
+            {
+                *out = pixel(t, s, burn_clock(age, burn_time));
+            }
+        }
+        None => {
+            for ((out, &t), &s) in out.iter_mut().zip(temperature).zip(state) {
+                *out = pixel(t, s, 1.0);
+            }
+        }
+    }
+}
+
+/// How far through its burn time a particle on fire for `burning_for` seconds is, in [0, 1]
+/// (1 for a material that burns away at once).
+#[inline(always)]
+fn burn_clock(burning_for: f32, burn_time: f32) -> f32 {
+    if burn_time > 0.0 {
+        (burning_for / burn_time).clamp(0.0, 1.0)
+    } else {
+        1.0
     }
 }
 
@@ -262,8 +291,16 @@ fn normalise(out: &mut [[f32; 3]], sums: &[Vec3A]) {
 /// Burn data of a particle for the shader, `[heat, burn]`, each in [0, 1]:
 /// `heat` rises from the initial to the ignition temperature (scorch), `burn` from the
 /// ignition to the burnt temperature (char, glow, and the cut where it passes the
-/// material's threshold). A burnt particle is `[1, 1]`.
-pub fn burn_attribute(temperature: f32, state: BurnState, material: &BurnMaterial) -> [f32; 2] {
+/// material's threshold), but no faster than the particle's time on fire, `burning_for`
+/// seconds, goes through the material's `burn_time`: a particle that passed the burnt
+/// temperature early (on a fine grid) chars over its burn time, as it burns away after it.
+/// A burnt particle is `[1, 1]`.
+pub fn burn_attribute(
+    temperature: f32,
+    state: BurnState,
+    burning_for: f32,
+    material: &BurnMaterial,
+) -> [f32; 2] {
     let heat = fraction(
         temperature,
         material.initial_temperature,
@@ -278,7 +315,8 @@ pub fn burn_attribute(temperature: f32, state: BurnState, material: &BurnMateria
                 temperature,
                 material.ignition_temperature,
                 material.burnt_temperature,
-            ),
+            )
+            .min(burn_clock(burning_for, material.burn_time)),
         ],
     }
 }
@@ -434,16 +472,48 @@ mod tests {
     #[test]
     fn burn_data_runs_from_cold_through_ignition_to_burnt() {
         let m = BurnMaterial::COTTON;
+        let done = m.burn_time;
         assert_eq!(
-            burn_attribute(m.initial_temperature, BurnState::Intact, &m),
+            burn_attribute(m.initial_temperature, BurnState::Intact, 0.0, &m),
             [0.0, 0.0]
         );
-        let [heat, burn] = burn_attribute(m.ignition_temperature, BurnState::Intact, &m);
+        let [heat, burn] = burn_attribute(m.ignition_temperature, BurnState::Intact, 0.0, &m);
         assert_eq!((heat, burn), (1.0, 0.0));
         let middle = 0.5 * (m.ignition_temperature + m.burnt_temperature);
-        let [_, burn] = burn_attribute(middle, BurnState::Ignited, &m);
+        let [_, burn] = burn_attribute(middle, BurnState::Ignited, done, &m);
         assert!((burn - 0.5).abs() < 1e-5);
-        assert_eq!(burn_attribute(-50.0, BurnState::Burnt, &m), [1.0, 1.0]);
-        assert_eq!(burn_attribute(f32::MAX, BurnState::Ignited, &m), [1.0, 1.0]);
+        assert_eq!(burn_attribute(-50.0, BurnState::Burnt, 0.0, &m), [1.0, 1.0]);
+        assert_eq!(
+            burn_attribute(f32::MAX, BurnState::Ignited, done, &m),
+            [1.0, 1.0]
+        );
+        // Past the burnt temperature a quarter of the way through its burn time (a fine
+        // grid): charred a quarter.
+        let [_, burn] = burn_attribute(f32::MAX, BurnState::Ignited, 0.25 * done, &m);
+        assert!((burn - 0.25).abs() < 1e-6, "{burn}");
+        // The mesh's loop gives the same values to the bit.
+        let temperature = [
+            m.initial_temperature,
+            middle,
+            middle,
+            f32::MAX,
+            f32::MAX,
+            2e3,
+        ];
+        let state = [
+            BurnState::Intact,
+            BurnState::Ignited,
+            BurnState::Ignited,
+            BurnState::Ignited,
+            BurnState::Ignited,
+            BurnState::Burnt,
+        ];
+        let clocks = [0.0, 0.1 * done, 2.0 * done, 0.0, 0.3 * done, done];
+        let mut out = [[0.0; 2]; 6];
+        burn_data(&mut out, &temperature, &state, Some(&clocks), &m);
+        for k in 0..6 {
+            let expected = burn_attribute(temperature[k], state[k], clocks[k], &m);
+            assert_eq!(out[k], expected, "particle {k}");
+        }
     }
 }

@@ -303,6 +303,7 @@ impl MeshClothBuilder {
             inv_mass,
             temperature: vec![material.initial_temperature; n],
             state: vec![BurnState::Intact; n],
+            burning_for: vec![0.0; n],
             anchor,
             external_force: vec![Vec3::ZERO; n],
         };

@@ -46,6 +46,10 @@ pub struct Particles {
     pub temperature: Vec<f32>,
     /// Burn states.
     pub state: Vec<BurnState>,
+    /// Seconds each particle has been on fire, s: zero while intact, counting up while
+    /// ignited, kept once burnt (how long it burnt). The burn-out
+    /// ([`BurnMaterial::burn_time`](super::BurnMaterial::burn_time)) and the shader's char read it.
+    pub burning_for: Vec<f32>,
     /// Positions in the cloth's own frame when it was built, m. Pinned particles are placed
     /// at `transform × anchor` every step, so pins follow the cloth entity.
     pub anchor: Vec<Vec3>,

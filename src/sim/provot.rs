@@ -128,6 +128,7 @@ mod tests {
             inv_mass: inv_mass.to_vec(),
             temperature: vec![20.0; n],
             state: vec![BurnState::Intact; n],
+            burning_for: vec![0.0; n],
             anchor: positions.to_vec(),
             external_force: vec![Vec3::ZERO; n],
         };

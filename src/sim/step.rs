@@ -315,7 +315,7 @@ impl ClothMut<'_> {
         self.outcome.detached.reserve(particles.len());
         let material = &self.settings.material;
         let front = &mut self.workspace.front;
-        let (report, counts) = front.scan(particles, self.springs, material, newly_burnt);
+        let (report, counts) = front.scan(particles, self.springs, material, h, newly_burnt);
         if !newly_burnt.is_empty() {
             front.sever(self.springs, &particles.state, newly_burnt);
         }

@@ -37,7 +37,7 @@ impl<T> FieldRange<T> {
 }
 
 /// The material fields the panel edits.
-pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 15] = [
+pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 16] = [
     FieldRange {
         label: "mass",
         unit: "kg/m²",
@@ -107,6 +107,13 @@ pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 15] = [
         range: 0.0..=3000.0,
         logarithmic: false,
         field: |m| &mut m.self_heating_rate,
+    },
+    FieldRange {
+        label: "burn time",
+        unit: "s",
+        range: 0.0..=5.0,
+        logarithmic: false,
+        field: |m| &mut m.burn_time,
     },
     FieldRange {
         label: "shrink factor",
