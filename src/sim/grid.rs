@@ -397,7 +397,7 @@ fn grid_springs(grid: GridShape, position: &[Vec3]) -> Springs {
 
 /// Two triangles per grid cell, counter-clockwise seen from +Z for a vertical grid, with
 /// the diagonal alternating so the mesh has no preferred direction.
-fn grid_triangles(grid: GridShape) -> Vec<[u32; 3]> {
+pub(crate) fn grid_triangles(grid: GridShape) -> Vec<[u32; 3]> {
     let mut triangles = Vec::with_capacity(2 * ((grid.columns - 1) * (grid.rows - 1)) as usize);
     for row in 0..grid.rows - 1 {
         for column in 0..grid.columns - 1 {

@@ -56,6 +56,7 @@ pub mod flame;
 pub mod forces;
 pub mod front;
 pub mod grid;
+mod grid_normals;
 pub mod guard;
 pub mod heat;
 pub mod heat_sources;
