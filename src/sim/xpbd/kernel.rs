@@ -594,7 +594,8 @@ mod tests {
         let u0: [[Vec<f32>; 3]; 4] = core::array::from_fn(|q| {
             core::array::from_fn(|axis| (0..n).map(|i| value(i + 7 * q + axis, 1e-5)).collect())
         });
-        for gap in [3usize, 5, 8, 9, 12, 15] {
+        // Four lanes side by side below 16 slots, two from 16 (as the solver takes them).
+        for gap in [3usize, 5, 8, 9, 12, 15, 16, 21, 31] {
             let len = n - gap;
             let per_lane = |q: usize, scale: f32, base: f32| -> Vec<f32> {
                 (0..len).map(|k| base + value(k + 3 * q, scale)).collect()
@@ -619,7 +620,17 @@ mod tests {
             let mut u = together
                 .each_mut()
                 .map(|[u_x, u_y, u_z]| [&mut u_x[..], &mut u_y[..], &mut u_z[..]]);
-            project_shared_together(xs, &mut u, (0, gap), data);
+            if gap < 16 {
+                project_shared_together(xs, &mut u, (0, gap), data);
+            } else {
+                let [u01, u23] = {
+                    let [a, b, c, d] = u;
+                    [[a, b], [c, d]]
+                };
+                let (mut u01, mut u23) = (u01, u23);
+                project_shared_together([xs[0], xs[1]], &mut u01, (0, gap), [data[0], data[1]]);
+                project_shared_together([xs[2], xs[3]], &mut u23, (0, gap), [data[2], data[3]]);
+            }
             let bits = |u: &[[Vec<f32>; 3]; 4]| {
                 u.iter()
                     .flatten()

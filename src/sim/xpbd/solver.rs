@@ -15,7 +15,7 @@ use super::kernel::{
     Arrays, RunData, project_indexed, project_shared, project_shared_together, project_split,
 };
 use super::lanes::{Band, GridLanes, GridSlots, Lane};
-use super::stretch_limit::{Flat, LimitedSprings, RoundTallies, Rows, limit_all, limit_pass};
+use super::stretch_limit::{Flat, LimitedSprings, RoundTallies, Rows, limit_all, limit_bucket};
 use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
 use crate::sim::forces::ForceParams;
@@ -42,6 +42,10 @@ const MAX_SLOT_PARTS: usize = 16;
 /// Distance between a lane's ends, in slots, below which a family's four quarter lanes are
 /// projected side by side ([`quarters_together`]): two chunks of eight.
 const TOGETHER_BELOW: u32 = 16;
+
+/// Distance between a lane's ends, in slots, below which (from [`TOGETHER_BELOW`]) a family's
+/// quarter lanes are projected two side by side ([`pair_together`]).
+const PAIR_BELOW: u32 = 32;
 
 /// No spring: a lane element past the grid's edge.
 const PHANTOM: u32 = u32::MAX;
@@ -757,7 +761,7 @@ impl XpbdSolver {
                         // while springs are projected.
                         let view = unsafe { shared.band(*grid, band) };
                         let lanes = &lanes.lanes[band.lanes.clone()];
-                        project_band(view, with_bends(lanes, bends), &elements);
+                        project_band::<true>(view, with_bends(lanes, bends), &elements);
                     }
                     Layout::Indexed => {
                         // SAFETY: a mesh's springs are one item, the pass's only one.
@@ -792,7 +796,7 @@ impl XpbdSolver {
                     // the bands are their pass's only item), and x is not written while
                     // springs are limited.
                     let mut rows = unsafe { shared.rows(*grid, reach) };
-                    tallies.add(round, limit_pass(&mut rows, buckets.bucket(bucket)));
+                    tallies.add(round, limit_bucket(&mut rows, &buckets, bucket));
                 }
                 Pass::Serial { limit, refresh } => {
                     if limit {
@@ -935,8 +939,10 @@ fn bend_interval(substeps: u32) -> u32 {
     }
 }
 
-/// Projects one band's lanes in order.
-fn project_band(mut view: BandView, lanes: &[Lane], elements: &Elements) {
+/// Projects one band's lanes in order, a family's quarter lanes side by side where that
+/// helps ([`quarters_together`], [`pair_together`]; the same bits as one by one, which
+/// `SIDE_BY_SIDE = false` does).
+fn project_band<const SIDE_BY_SIDE: bool>(mut view: BandView, lanes: &[Lane], elements: &Elements) {
     let data = |lane: &Lane| {
         let range = lane.first as usize..(lane.first + lane.len) as usize;
         RunData {
@@ -950,7 +956,7 @@ fn project_band(mut view: BandView, lanes: &[Lane], elements: &Elements) {
     while next < lanes.len() {
         let lane = &lanes[next];
         let (a, b) = (lane.a as usize - view.base, lane.b as usize - view.base);
-        if let Some(four) = quarters_together(&lanes[next..]) {
+        if let Some(four) = quarters_together(&lanes[next..]).filter(|_| SIDE_BY_SIDE) {
             // One family's lanes in the four quarter grids, each within its own.
             let x = four
                 .each_ref()
@@ -968,6 +974,26 @@ fn project_band(mut view: BandView, lanes: &[Lane], elements: &Elements) {
             ];
             project_shared_together(x, &mut u, (a, b), four.each_ref().map(&data));
             next += 4;
+            continue;
+        }
+        if let Some(two) = pair_together(&lanes[next..]).filter(|_| SIDE_BY_SIDE) {
+            // One family's lanes in two neighbouring quarter grids, each within its own.
+            let q = two[0].qa as usize;
+            let x = two
+                .each_ref()
+                .map(|lane| three(|axis| view.x[axis][lane.qa as usize]));
+            let [u0, u1, u2] = &mut view.u;
+            let ([a0, b0], [a1, b1], [a2, b2]) = (
+                two_quarters(u0, q),
+                two_quarters(u1, q),
+                two_quarters(u2, q),
+            );
+            let mut u = [
+                [&mut **a0, &mut **a1, &mut **a2],
+                [&mut **b0, &mut **b1, &mut **b2],
+            ];
+            project_shared_together(x, &mut u, (a, b), two.each_ref().map(&data));
+            next += 2;
             continue;
         }
         let (qa, qb) = (lane.qa as usize, lane.qb as usize);
@@ -1007,6 +1033,37 @@ fn quarters_together(lanes: &[Lane]) -> Option<&[Lane; 4]> {
             && (lane.a, lane.b, lane.len, lane.kind) == (first.a, first.b, first.len, first.kind)
     });
     same.then_some(four)
+}
+
+/// The first two of `lanes` if they are one family's lanes in quarter grids `q` and `q + 1`
+/// (`q` even), each within its own, with the same ends and length, and ends at least
+/// [`TOGETHER_BELOW`] but less than [`PAIR_BELOW`] slots apart: each lane's chunks wait for
+/// the one two or three before, so two lanes side by side keep the processor busier, where
+/// four read from too many places.
+fn pair_together(lanes: &[Lane]) -> Option<&[Lane; 2]> {
+    let two: &[Lane; 2] = lanes.get(..2)?.try_into().ok()?;
+    let first = &two[0];
+    let apart = first.a.abs_diff(first.b);
+    if !(TOGETHER_BELOW..PAIR_BELOW).contains(&apart) || !first.qa.is_multiple_of(2) {
+        return None;
+    }
+    let same = two.iter().enumerate().all(|(k, lane)| {
+        lane.qa == first.qa + k as u8
+            && lane.qb == lane.qa
+            && (lane.a, lane.b, lane.len, lane.kind) == (first.a, first.b, first.len, first.kind)
+    });
+    same.then_some(two)
+}
+
+/// Quarter grids `q` and `q + 1` of one axis.
+fn two_quarters<'v, 's>(
+    quarters: &'v mut [&'s mut [f32]; 4],
+    q: usize,
+) -> [&'v mut &'s mut [f32]; 2] {
+    match quarters.get_disjoint_mut([q, q + 1]) {
+        Ok(two) => two,
+        Err(_) => unreachable!("a pair starts at quarter 0 or 2"),
+    }
 }
 
 /// The `len` entries from `a` of quarter `qa` and from `b` of quarter `qb` (`qa ≠ qb`), per axis.
@@ -1785,6 +1842,68 @@ mod tests {
             worst = worst.max((particles.position[1].x - 1.0 - exact).abs());
         }
         worst
+    }
+
+    /// A band's lanes projected side by side (four quarter lanes at 32 columns, pairs at 64)
+    /// give the same bits as each lane alone, on grids whose lanes take each way.
+    #[test]
+    fn lanes_side_by_side_in_a_band_equal_one_by_one() {
+        use super::super::lanes::{GridLanes, GridSlots};
+        let value = |i: usize, scale: f32| scale * ((i * 7919 % 101) as f32 - 50.0) / 37.0;
+        for (columns, rows) in [(32, 6), (64, 6), (64, 9), (100, 5), (40, 7)] {
+            let slots = GridSlots::new(GridShape { columns, rows });
+            let lanes = GridLanes::new(slots, rows);
+            let quarter = slots.quarter_len() as usize;
+            let elements = lanes.elements as usize;
+            let rest: Vec<f32> = (0..elements).map(|e| 0.05 + value(e, 1e-3)).collect();
+            let ca: Vec<f32> = (0..elements).map(|e| 0.3 + value(e + 1, 1e-2)).collect();
+            let cb: Vec<f32> = (0..elements).map(|e| 0.2 + value(e + 2, 1e-2)).collect();
+            let data = Elements {
+                rest: &rest,
+                ca: &ca,
+                cb: &cb,
+                gamma: [0.01, 0.02, 0.03],
+            };
+            let x: [[Vec<f32>; 4]; 3] = core::array::from_fn(|axis| {
+                core::array::from_fn(|q| {
+                    (0..quarter)
+                        .map(|i| 0.05 * ((axis + i + q) % 7) as f32 + value(i + 5 * q + axis, 1e-3))
+                        .collect()
+                })
+            });
+            let u0: [[Vec<f32>; 4]; 3] = core::array::from_fn(|axis| {
+                core::array::from_fn(|q| {
+                    (0..quarter)
+                        .map(|i| value(i + 3 * q + axis, 1e-4))
+                        .collect()
+                })
+            });
+            let run = |side_by_side: bool| {
+                let mut u = u0.clone();
+                let view = BandView {
+                    x: x.each_ref().map(|axis| axis.each_ref().map(|q| &q[..])),
+                    u: u.each_mut().map(|axis| axis.each_mut().map(|q| &mut q[..])),
+                    base: 0,
+                };
+                if side_by_side {
+                    project_band::<true>(view, &lanes.lanes, &data);
+                } else {
+                    project_band::<false>(view, &lanes.lanes, &data);
+                }
+                u.iter()
+                    .flatten()
+                    .flatten()
+                    .map(|v| v.to_bits())
+                    .collect::<Vec<_>>()
+            };
+            let alone = run(false);
+            let start: Vec<u32> = u0.iter().flatten().flatten().map(|v| v.to_bits()).collect();
+            assert_ne!(
+                alone, start,
+                "{columns} x {rows}: the springs moved nothing"
+            );
+            assert_eq!(run(true), alone, "{columns} x {rows}");
+        }
     }
 
     /// A 9 x 7 cotton grid 5 cm apart pinned along its top, its grid shape, and forces with
