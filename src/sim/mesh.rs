@@ -122,7 +122,8 @@ impl MeshData {
                         sums.part(run.clone()),
                     )
                 };
-                vertex_run(positions, burn, particles, run, material, world_to_local);
+                local_vertices(positions, &particles.position[run.clone()], world_to_local);
+                burn_run(burn, particles, run, material);
                 sums.fill(Vec3A::ZERO);
             }
             1 | 2 => {
@@ -197,19 +198,12 @@ impl MeshData {
                         alive.part(run.clone()),
                     )
                 };
-                let state = &state[run.clone()];
                 let world = &particles.position[run.clone()];
                 local_vertices_by_axis(positions, axes, world, world_to_local);
-                burn_data(
-                    burn,
-                    &particles.temperature[run.clone()],
-                    state,
-                    particles.burning_for.get(run),
-                    material,
-                );
-                for (alive, &state) in alive.iter_mut().zip(state) {
+                for (alive, &state) in alive.iter_mut().zip(&state[run.clone()]) {
                     *alive = if state == BurnState::Burnt { 0.0 } else { 1.0 };
                 }
+                burn_run(burn, particles, run, material);
             }
             1 => {
                 // SAFETY: the positions are only read in this phase; each cell row's faces
@@ -327,16 +321,13 @@ impl MeshData {
     }
 }
 
-/// A run of vertices' local positions and burn data.
-fn vertex_run(
-    positions: &mut [[f32; 3]],
+/// A run of vertices' burn data.
+fn burn_run(
     burn: &mut [[f32; 2]],
     particles: &Particles,
     run: Range<usize>,
     material: &BurnMaterial,
-    world_to_local: Affine3A,
 ) {
-    local_vertices(positions, &particles.position[run.clone()], world_to_local);
     burn_data(
         burn,
         &particles.temperature[run.clone()],

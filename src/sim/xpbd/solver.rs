@@ -40,11 +40,11 @@ const SLOT_PART: usize = 512;
 const MAX_SLOT_PARTS: usize = 16;
 
 /// Distance between a lane's ends, in slots, below which a family's four quarter lanes are
-/// projected side by side ([`quarters_together`]): two chunks of eight.
+/// projected side by side ([`side_by_side`]): two chunks of eight.
 const TOGETHER_BELOW: u32 = 16;
 
 /// Distance between a lane's ends, in slots, below which (from [`TOGETHER_BELOW`]) a family's
-/// quarter lanes are projected two side by side ([`pair_together`]).
+/// quarter lanes are projected two side by side ([`side_by_side`]).
 const PAIR_BELOW: u32 = 32;
 
 /// No spring: a lane element past the grid's edge.
@@ -940,8 +940,7 @@ fn bend_interval(substeps: u32) -> u32 {
 }
 
 /// Projects one band's lanes in order, a family's quarter lanes side by side where that
-/// helps ([`quarters_together`], [`pair_together`]; the same bits as one by one, which
-/// `SIDE_BY_SIDE = false` does).
+/// helps ([`side_by_side`]; the same bits as one by one, which `SIDE_BY_SIDE = false` does).
 fn project_band<const SIDE_BY_SIDE: bool>(mut view: BandView, lanes: &[Lane], elements: &Elements) {
     let data = |lane: &Lane| {
         let range = lane.first as usize..(lane.first + lane.len) as usize;
@@ -956,45 +955,21 @@ fn project_band<const SIDE_BY_SIDE: bool>(mut view: BandView, lanes: &[Lane], el
     while next < lanes.len() {
         let lane = &lanes[next];
         let (a, b) = (lane.a as usize - view.base, lane.b as usize - view.base);
-        if let Some(four) = quarters_together(&lanes[next..]).filter(|_| SIDE_BY_SIDE) {
-            // One family's lanes in the four quarter grids, each within its own.
-            let x = four
-                .each_ref()
-                .map(|lane| three(|axis| view.x[axis][lane.qa as usize]));
-            let [
-                [u00, u01, u02, u03],
-                [u10, u11, u12, u13],
-                [u20, u21, u22, u23],
-            ] = &mut view.u;
-            let mut u = [
-                [&mut **u00, &mut **u10, &mut **u20],
-                [&mut **u01, &mut **u11, &mut **u21],
-                [&mut **u02, &mut **u12, &mut **u22],
-                [&mut **u03, &mut **u13, &mut **u23],
-            ];
-            project_shared_together(x, &mut u, (a, b), four.each_ref().map(&data));
-            next += 4;
-            continue;
-        }
-        if let Some(two) = pair_together(&lanes[next..]).filter(|_| SIDE_BY_SIDE) {
-            // One family's lanes in two neighbouring quarter grids, each within its own.
-            let q = two[0].qa as usize;
-            let x = two
-                .each_ref()
-                .map(|lane| three(|axis| view.x[axis][lane.qa as usize]));
-            let [u0, u1, u2] = &mut view.u;
-            let ([a0, b0], [a1, b1], [a2, b2]) = (
-                two_quarters(u0, q),
-                two_quarters(u1, q),
-                two_quarters(u2, q),
-            );
-            let mut u = [
-                [&mut **a0, &mut **a1, &mut **a2],
-                [&mut **b0, &mut **b1, &mut **b2],
-            ];
-            project_shared_together(x, &mut u, (a, b), two.each_ref().map(&data));
-            next += 2;
-            continue;
+        if SIDE_BY_SIDE {
+            // Ends under two chunks apart: every chunk waits for the one before, so all four
+            // quarter lanes go side by side. From two to under four chunks apart each waits
+            // for the one two or three before, and four lanes at once read from too many
+            // places: two go side by side.
+            if let Some(four) = side_by_side::<4>(&lanes[next..], 0..TOGETHER_BELOW) {
+                project_side_by_side(&mut view, four, (a, b), &data);
+                next += 4;
+                continue;
+            }
+            if let Some(two) = side_by_side::<2>(&lanes[next..], TOGETHER_BELOW..PAIR_BELOW) {
+                project_side_by_side(&mut view, two, (a, b), &data);
+                next += 2;
+                continue;
+            }
         }
         let (qa, qb) = (lane.qa as usize, lane.qb as usize);
         let len = lane.len as usize;
@@ -1013,56 +988,62 @@ fn project_band<const SIDE_BY_SIDE: bool>(mut view: BandView, lanes: &[Lane], el
     }
 }
 
-/// The first four of `lanes` if they are one family's lanes in quarter grids 0 to 3 in
-/// order, each within its own quarter grid, with the same ends and length, and ends less than
-/// [`TOGETHER_BELOW`] slots apart: lanes on disjoint arrays whose chunks each wait for the
-/// one before, which [`project_shared_together`] projects side by side. (With ends further
-/// apart a lane's chunks already overlap, and four lanes at once read from too many places:
-/// on a 64 x 64 cloth, whose south lanes' ends are 16 apart, the dynamics took 0.375 ms a
-/// frame against 0.316 one lane at a time, medians of five alternated runs of
-/// `examples/stress.rs`.)
-fn quarters_together(lanes: &[Lane]) -> Option<&[Lane; 4]> {
-    let four: &[Lane; 4] = lanes.get(..4)?.try_into().ok()?;
-    let first = &four[0];
-    if first.a.abs_diff(first.b) >= TOGETHER_BELOW {
+/// The first `L` of `lanes` if they are one family's lanes in quarter grids `q` to
+/// `q + L − 1` in order (`q` a multiple of `L`), each within its own quarter grid, with the
+/// same ends and length, their ends a number of slots apart in `apart`: lanes on disjoint
+/// arrays whose chunks wait for ones just before, which [`project_shared_together`]
+/// projects side by side. (Four lanes at once with ends 16 apart, on a 64 x 64 cloth, took
+/// 0.375 ms of dynamics a frame against 0.316 one lane at a time, medians of five
+/// alternated runs of `examples/stress.rs`; two at once took 0.344 against 0.354.)
+fn side_by_side<const L: usize>(
+    lanes: &[Lane],
+    apart: core::ops::Range<u32>,
+) -> Option<&[Lane; L]> {
+    let group: &[Lane; L] = lanes.get(..L)?.try_into().ok()?;
+    let first = &group[0];
+    let q = usize::from(first.qa);
+    if !apart.contains(&first.a.abs_diff(first.b)) || !q.is_multiple_of(L) {
         return None;
     }
-    let same = four.iter().enumerate().all(|(q, lane)| {
-        lane.qa as usize == q
-            && lane.qb as usize == q
-            && (lane.a, lane.b, lane.len, lane.kind) == (first.a, first.b, first.len, first.kind)
-    });
-    same.then_some(four)
-}
-
-/// The first two of `lanes` if they are one family's lanes in quarter grids `q` and `q + 1`
-/// (`q` even), each within its own, with the same ends and length, and ends at least
-/// [`TOGETHER_BELOW`] but less than [`PAIR_BELOW`] slots apart: each lane's chunks wait for
-/// the one two or three before, so two lanes side by side keep the processor busier, where
-/// four read from too many places.
-fn pair_together(lanes: &[Lane]) -> Option<&[Lane; 2]> {
-    let two: &[Lane; 2] = lanes.get(..2)?.try_into().ok()?;
-    let first = &two[0];
-    let apart = first.a.abs_diff(first.b);
-    if !(TOGETHER_BELOW..PAIR_BELOW).contains(&apart) || !first.qa.is_multiple_of(2) {
-        return None;
-    }
-    let same = two.iter().enumerate().all(|(k, lane)| {
-        lane.qa == first.qa + k as u8
+    let same = group.iter().enumerate().all(|(k, lane)| {
+        usize::from(lane.qa) == q + k
             && lane.qb == lane.qa
             && (lane.a, lane.b, lane.len, lane.kind) == (first.a, first.b, first.len, first.kind)
     });
-    same.then_some(two)
+    same.then_some(group)
 }
 
-/// Quarter grids `q` and `q + 1` of one axis.
-fn two_quarters<'v, 's>(
-    quarters: &'v mut [&'s mut [f32]; 4],
+/// Projects a [`side_by_side`] group of lanes with [`project_shared_together`]; `ends`: the
+/// first element's ends within their quarter grids.
+fn project_side_by_side<'e, const L: usize>(
+    view: &mut BandView,
+    group: &[Lane; L],
+    ends: (usize, usize),
+    data: &impl Fn(&Lane) -> RunData<'e>,
+) {
+    let q = usize::from(group[0].qa);
+    let x = group
+        .each_ref()
+        .map(|lane| three(|axis| view.x[axis][usize::from(lane.qa)]));
+    let [u0, u1, u2] = &mut view.u;
+    let mut axes = [u0, u1, u2].map(|axis| quarter_group::<L>(axis, q).into_iter());
+    let mut u: [[&mut [f32]; 3]; L] = core::array::from_fn(|_| {
+        axes.each_mut().map(|axis| match axis.next() {
+            Some(quarter) => quarter,
+            None => unreachable!("one quarter grid per lane"),
+        })
+    });
+    project_shared_together(x, &mut u, ends, group.each_ref().map(data));
+}
+
+/// Quarter grids `q` to `q + L − 1` of one axis.
+fn quarter_group<'v, const L: usize>(
+    axis: &'v mut [&mut [f32]; 4],
     q: usize,
-) -> [&'v mut &'s mut [f32]; 2] {
-    match quarters.get_disjoint_mut([q, q + 1]) {
-        Ok(two) => two,
-        Err(_) => unreachable!("a pair starts at quarter 0 or 2"),
+) -> [&'v mut [f32]; L] {
+    match axis.get_disjoint_mut(core::array::from_fn(|k| q + k)) {
+        Ok(group) => group.map(|quarter| &mut **quarter),
+        Err(_) => unreachable!("a group of quarter grids lies within the four"),
     }
 }
 
