@@ -177,6 +177,9 @@ struct PinNews {
     moving: bool,
     /// Some particle moves freely (neither pinned nor burnt).
     free: bool,
+    /// The free particles' outside acceleration, m/s², when no particle has an external
+    /// force (so it is gravity and wind drag for all of them).
+    uniform: Option<[f32; 3]>,
 }
 
 /// The per-slot arrays.
@@ -433,6 +436,7 @@ impl XpbdSolver {
         let step = Substep {
             h,
             drag: around.params.drag_per_mass.max(0.0),
+            uniform: pins.uniform,
             colliders: around.colliders,
             margin: around.margin,
             tethered,
@@ -498,14 +502,16 @@ impl XpbdSolver {
                 changed: pins_changed,
                 moving: pins_moving,
                 free: false,
+                uniform: None,
             };
         }
         let drag = params.drag_per_mass.max(0.0);
         let constant = params.gravity + drag * params.wind;
+        let uniform = no_force(&particles.external_force).then_some(constant.to_array());
         let w = &self.w;
         let parts = parts_for(pool, self.slots.len(), 2048);
         for_each_part(pool, self.slots.parts(parts), |mut chunk| {
-            chunk.read(particles, w, constant, frame)
+            chunk.read(particles, w, constant, frame, uniform.is_none())
         });
         // Padding back to rest at the origin: a NaN that reached it in a blown-up frame
         // through a phantom element (whose factors are zero, and zero times NaN is NaN)
@@ -530,6 +536,7 @@ impl XpbdSolver {
             changed: pins_changed,
             moving: pins_moving,
             free: any_free,
+            uniform,
         }
     }
 
@@ -1069,6 +1076,10 @@ fn split_quarters<'v>(
 struct Substep<'a> {
     h: f32,
     drag: f32,
+    /// Every free slot's outside acceleration (m/s²) when it is the same for all of them (no
+    /// particle has an external force): the per-slot pass reads it instead of the
+    /// acceleration arrays, which [`SlotChunk::read`] then leaves unwritten.
+    uniform: Option<[f32; 3]>,
     colliders: &'a [WorldCollider],
     margin: f32,
     tethered: bool,
@@ -1327,7 +1338,30 @@ impl<'a> SlotChunk<'a> {
 
     /// Copies in the particles of these slots (padding stays still). Pins start `frame`
     /// seconds of their velocity before their target and move there over the substeps.
-    fn read(&mut self, particles: &Particles, w: &[f32], constant: glam::Vec3, frame: f32) {
+    fn read(
+        &mut self,
+        particles: &Particles,
+        w: &[f32],
+        constant: glam::Vec3,
+        frame: f32,
+        accelerations: bool,
+    ) {
+        if accelerations {
+            self.read_slots::<true>(particles, w, constant, frame);
+        } else {
+            self.read_slots::<false>(particles, w, constant, frame);
+        }
+    }
+
+    /// [`Self::read`], writing the acceleration arrays when `ACCELERATIONS`.
+    #[inline(always)]
+    fn read_slots<const ACCELERATIONS: bool>(
+        &mut self,
+        particles: &Particles,
+        w: &[f32],
+        constant: glam::Vec3,
+        frame: f32,
+    ) {
         // Every array cut to the slots' length once, so the loop checks no bounds on them.
         let n = self.free.len();
         let (particle, free, moving) = (
@@ -1362,14 +1396,16 @@ impl<'a> SlotChunk<'a> {
             let (p, v) = (position[i], velocity[i]);
             // A pin (not free, not burnt) starts a frame of its velocity before its target.
             let start = if !is_free && !burnt { p - frame * v } else { p };
-            let a = if is_free {
-                constant + force[i] * mass_inverse
-            } else {
-                glam::Vec3::ZERO
-            };
             (x0[s], x1[s], x2[s]) = (start.x, start.y, start.z);
             (v0[s], v1[s], v2[s]) = (v.x, v.y, v.z);
-            (a0[s], a1[s], a2[s]) = (a.x, a.y, a.z);
+            if ACCELERATIONS {
+                let a = if is_free {
+                    constant + force[i] * mass_inverse
+                } else {
+                    glam::Vec3::ZERO
+                };
+                (a0[s], a1[s], a2[s]) = (a.x, a.y, a.z);
+            }
         }
     }
 
@@ -1401,7 +1437,10 @@ impl<'a> SlotChunk<'a> {
             if step.refresh_targets {
                 self.place_targets(pins);
             }
-            self.tethers_finish_and_predict(step.h, step.drag);
+            match step.uniform {
+                Some(a) => self.tethers_finish_and_predict::<true>(step.h, step.drag, a),
+                None => self.tethers_finish_and_predict::<false>(step.h, step.drag, [0.0; 3]),
+            }
             return;
         }
         if phase != Phase::PredictOnly {
@@ -1416,8 +1455,14 @@ impl<'a> SlotChunk<'a> {
             }
         }
         match phase {
-            Phase::PredictOnly => self.predict(step.h, step.drag),
-            Phase::FinishAndPredict => self.finish_and_predict(step.h, step.drag),
+            Phase::PredictOnly => match step.uniform {
+                Some(a) => self.predict::<true>(step.h, step.drag, a),
+                None => self.predict::<false>(step.h, step.drag, [0.0; 3]),
+            },
+            Phase::FinishAndPredict => match step.uniform {
+                Some(a) => self.finish_and_predict::<true>(step.h, step.drag, a),
+                None => self.finish_and_predict::<false>(step.h, step.drag, [0.0; 3]),
+            },
             Phase::Finish => self.finish(step.h),
         }
     }
@@ -1461,7 +1506,12 @@ impl<'a> SlotChunk<'a> {
     /// [`Self::tethers`] then [`Self::finish_and_predict`], each slot through both before the
     /// next: the same operations in the same order on every slot, read and written once.
     #[inline(always)]
-    fn tethers_finish_and_predict(&mut self, h: f32, drag: f32) {
+    fn tethers_finish_and_predict<const UNIFORM: bool>(
+        &mut self,
+        h: f32,
+        drag: f32,
+        uniform: [f32; 3],
+    ) {
         let (inverse, keep) = (1.0 / h, 1.0 / (1.0 + h * drag));
         let n = self.free.len();
         let (length, free, moving) = (&self.tether_length[..n], &self.free[..n], &self.moving[..n]);
@@ -1491,22 +1541,28 @@ impl<'a> SlotChunk<'a> {
                 *v = finished + free[s] * (accelerated - finished);
                 moving[s] * h * *v
             };
-            u0[s] = finish(&mut x0[s], &mut v0[s], u0[s] - k * d[0], a0[s]);
-            u1[s] = finish(&mut x1[s], &mut v1[s], u1[s] - k * d[1], a1[s]);
-            u2[s] = finish(&mut x2[s], &mut v2[s], u2[s] - k * d[2], a2[s]);
+            let a = if UNIFORM {
+                uniform
+            } else {
+                [a0[s], a1[s], a2[s]]
+            };
+            u0[s] = finish(&mut x0[s], &mut v0[s], u0[s] - k * d[0], a[0]);
+            u1[s] = finish(&mut x1[s], &mut v1[s], u1[s] - k * d[1], a[1]);
+            u2[s] = finish(&mut x2[s], &mut v2[s], u2[s] - k * d[2], a[2]);
         }
     }
 
     /// The end of a substep and the start of the next in one pass: free particles take their
     /// velocity from their displacement, every particle moves by it; then the velocities
-    /// take the outside accelerations (drag implicitly, so any step is stable) and the
+    /// take the outside accelerations (`uniform` for every slot when `UNIFORM`, else the
+    /// acceleration arrays; drag implicitly, so any step is stable) and the
     /// particles move with them, `u = h v`.
     #[inline(always)]
-    fn finish_and_predict(&mut self, h: f32, drag: f32) {
+    fn finish_and_predict<const UNIFORM: bool>(&mut self, h: f32, drag: f32, uniform: [f32; 3]) {
         let (inverse, keep) = (1.0 / h, 1.0 / (1.0 + h * drag));
         let n = self.free.len();
         let (free, moving) = (&self.free[..n], &self.moving[..n]);
-        for axis in 0..3 {
+        for (axis, &constant) in uniform.iter().enumerate() {
             let x = &mut self.x[axis][..n];
             let v = &mut self.v[axis][..n];
             let u = &mut self.u[axis][..n];
@@ -1514,7 +1570,8 @@ impl<'a> SlotChunk<'a> {
             for i in 0..n {
                 x[i] += u[i];
                 let finished = v[i] + free[i] * (u[i] * inverse - v[i]);
-                let accelerated = (finished + h * a[i]) * keep;
+                let a = if UNIFORM { constant } else { a[i] };
+                let accelerated = (finished + h * a) * keep;
                 v[i] = finished + free[i] * (accelerated - finished);
                 u[i] = moving[i] * h * v[i];
             }
@@ -1565,24 +1622,35 @@ impl<'a> SlotChunk<'a> {
         }
     }
 
-    /// Velocities take the outside accelerations (drag implicitly, so any step is stable) and
+    /// Velocities take the outside accelerations (`uniform` for every slot when `UNIFORM`, else
+    /// the acceleration arrays; drag implicitly, so any step is stable) and
     /// the particles move with them: `u = h v`.
     #[inline(always)]
-    fn predict(&mut self, h: f32, drag: f32) {
+    fn predict<const UNIFORM: bool>(&mut self, h: f32, drag: f32, uniform: [f32; 3]) {
         let keep = 1.0 / (1.0 + h * drag);
         let n = self.free.len();
         let (free, moving) = (&self.free[..n], &self.moving[..n]);
-        for axis in 0..3 {
+        for (axis, &constant) in uniform.iter().enumerate() {
             let v = &mut self.v[axis][..n];
             let a = &self.acceleration[axis][..n];
             let u = &mut self.u[axis][..n];
             for i in 0..n {
-                let accelerated = (v[i] + h * a[i]) * keep;
+                let a = if UNIFORM { constant } else { a[i] };
+                let accelerated = (v[i] + h * a) * keep;
                 v[i] += free[i] * (accelerated - v[i]);
                 u[i] = moving[i] * h * v[i];
             }
         }
     }
+}
+
+/// Whether no particle has an external force (each component zero, of either sign): then
+/// every free particle's outside acceleration is the same. One pass with no branch.
+fn no_force(force: &[glam::Vec3]) -> bool {
+    let bits = force.iter().fold(0u32, |bits, f| {
+        bits | f.x.to_bits() | f.y.to_bits() | f.z.to_bits()
+    });
+    bits & !(1 << 31) == 0
 }
 
 /// `[f(0), f(1), f(2)]`: per axis, built in place (`core::array::from_fn` is not always
@@ -1922,9 +1990,6 @@ mod tests {
         }
     }
 
-    /// A particle whose velocity went NaN is put back where it was, at rest, and counted
-    /// (with the neighbours its NaN reached through their springs within the frame); no NaN
-    /// is left, and the cloth carries on from there.
     /// The per-slot pass with tethers and no colliders runs tethers and the velocity update
     /// slot by slot, in one pass: every array comes out as the two passes leave it, to the
     /// bit, pulled particles included.
@@ -1949,6 +2014,7 @@ mod tests {
         let step = Substep {
             h: 1.0 / 360.0,
             drag: 0.4,
+            uniform: None,
             colliders: &[],
             margin: 0.0,
             tethered: true,
@@ -1963,7 +2029,7 @@ mod tests {
             .run(&[], &step, Phase::FinishAndPredict);
         let mut chunk = apart.parts(1).next().unwrap();
         chunk.tethers();
-        chunk.finish_and_predict(step.h, step.drag);
+        chunk.finish_and_predict::<false>(step.h, step.drag, [0.0; 3]);
         let bits = |arrays: &SlotArrays| -> Vec<u32> {
             [&arrays.x, &arrays.v, &arrays.u]
                 .into_iter()
@@ -1982,10 +2048,126 @@ mod tests {
             .parts(1)
             .next()
             .unwrap()
-            .finish_and_predict(step.h, step.drag);
+            .finish_and_predict::<false>(step.h, step.drag, [0.0; 3]);
         assert_ne!(bits(&untethered), bits(&apart));
     }
 
+    /// With one outside acceleration for every free slot, the per-slot pass reads it in place
+    /// of the acceleration arrays and moves every slot as the arrays do (holding it for the
+    /// free slots and zero for the rest, as the copy-in writes them), to the bit, in every
+    /// phase, with tethers and without.
+    #[test]
+    fn one_acceleration_for_all_moves_as_the_arrays_do() {
+        let n = 37;
+        let a = [0.25, -9.81, 0.5];
+        let mut slots = SlotArrays::default();
+        slots.resize(n);
+        let wave = |s: usize, k: usize| ((s * 7 + k * 13) % 17) as f32 / 17.0 - 0.5;
+        for s in 0..n {
+            slots.free[s] = f32::from(s % 4 != 0);
+            slots.moving[s] = f32::from(s % 9 != 0);
+            slots.tether_length[s] = if s % 3 == 0 { f32::INFINITY } else { 0.1 };
+            for (k, &a) in a.iter().enumerate() {
+                slots.x[k][s] = wave(s, k);
+                slots.v[k][s] = 0.3 * wave(s, k + 3);
+                slots.u[k][s] = 0.01 * wave(s, k + 6);
+                slots.acceleration[k][s] = a * slots.free[s];
+                slots.tether_target[k][s] = 0.2 * wave(s, k + 9);
+            }
+        }
+        let bits = |arrays: &SlotArrays| -> Vec<u32> {
+            [&arrays.x, &arrays.v, &arrays.u]
+                .into_iter()
+                .flatten()
+                .flatten()
+                .map(|value| value.to_bits())
+                .collect()
+        };
+        for tethered in [false, true] {
+            for phase in [Phase::PredictOnly, Phase::FinishAndPredict, Phase::Finish] {
+                let step = Substep {
+                    h: 1.0 / 360.0,
+                    drag: 0.4,
+                    uniform: None,
+                    colliders: &[],
+                    margin: 0.0,
+                    tethered,
+                    refresh_targets: false,
+                };
+                let (mut arrays, mut one) = (slots.clone(), slots.clone());
+                // The copy-in leaves the arrays unwritten: whatever is in them is not read.
+                for axis in &mut one.acceleration {
+                    axis.fill(f32::NAN);
+                }
+                arrays.parts(1).next().unwrap().run(&[], &step, phase);
+                let uniform = Substep {
+                    uniform: Some(a),
+                    ..step
+                };
+                one.parts(1).next().unwrap().run(&[], &uniform, phase);
+                assert_eq!(bits(&arrays), bits(&one), "tethered {tethered}");
+                if phase != Phase::Finish {
+                    assert_ne!(bits(&arrays), bits(&slots), "the slots moved");
+                }
+            }
+        }
+    }
+
+    /// A cloth with nothing pinned, no gravity and an external force on every particle of its
+    /// mass times `a` moves as one body accelerating at `a` (its springs stay at rest length),
+    /// as it does with no force and gravity `a`: the force reaches the solver through the
+    /// acceleration arrays, gravity through the one acceleration of every free particle.
+    #[test]
+    fn an_external_force_accelerates_the_cloth_as_gravity_does() {
+        let (mut pushed, springs, grid, params) = hanging_grid();
+        pushed.inv_mass.fill(1.0 / pushed.mass[0]);
+        let mut falling = pushed.clone();
+        let a = glam::Vec3::new(0.6, -2.0, 1.2);
+        for i in 0..pushed.len() {
+            pushed.external_force[i] = pushed.mass[i] * a;
+        }
+        let weightless = ForceParams {
+            gravity: glam::Vec3::ZERO,
+            ..params
+        };
+        let falls = ForceParams {
+            gravity: a,
+            ..params
+        };
+        let (h, substeps) = (1.0 / 360.0, 6);
+        let frame = h * substeps as f32;
+        let mut solver = XpbdSolver::default();
+        solver.advance(
+            &mut pushed,
+            &springs,
+            grid,
+            &still_air(&weightless),
+            h,
+            substeps,
+        );
+        let mut solver = XpbdSolver::default();
+        solver.advance(
+            &mut falling,
+            &springs,
+            grid,
+            &still_air(&falls),
+            h,
+            substeps,
+        );
+        for particles in [&pushed, &falling] {
+            for v in &particles.velocity {
+                assert!(
+                    (*v - a * frame).length() < 1e-5,
+                    "{v} against {}",
+                    a * frame
+                );
+            }
+        }
+    }
+
+    /// A particle whose velocity went NaN is put back where it was, at rest, and counted
+    /// (with the neighbours its NaN reached through their springs within the frame); no NaN
+    /// is left, and the cloth carries on from there.
     #[test]
     fn the_guard_puts_back_a_blown_particle_and_the_cloth_carries_on() {
         let (mut particles, springs, grid, params) = hanging_grid();
