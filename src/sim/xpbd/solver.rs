@@ -170,6 +170,7 @@ pub struct XpbdSolver {
 }
 
 /// What reading the particles found out about the pins.
+#[derive(Default)]
 struct PinNews {
     /// A pin came or went.
     changed: bool,
@@ -479,24 +480,41 @@ impl XpbdSolver {
         frame: f32,
         pool: Option<&TaskPool>,
     ) -> PinNews {
-        let mut pins_changed = false;
-        let mut pins_moving = false;
-        let mut any_free = false;
-        for i in 0..particles.len() {
-            let burnt = particles.state[i].is_burnt();
-            let pinned = particles.inv_mass[i] == 0.0;
-            any_free |= !burnt && !pinned;
-            pins_moving |= pinned && !burnt && particles.velocity[i] != glam::Vec3::ZERO;
-            let mass_inverse = if burnt { 0.0 } else { particles.inv_mass[i] };
-            let w = &mut self.w[i];
-            if mass_inverse.to_bits() != w.to_bits() {
-                // Not burnt, and from or to zero: a pin came or went (the first read after a
-                // layout sees every particle change, from NaN; that is no pin change).
-                pins_changed |= !burnt && !w.is_nan() && (*w == 0.0) != pinned;
-                *w = mass_inverse;
-                self.dirty.push(i as u32);
+        let mut news = PinNews::default();
+        let n = particles.len();
+        let (state, inv_mass) = (&particles.state[..n], &particles.inv_mass[..n]);
+        let whole = n - n % SCAN_RUN;
+        // A run of particles whose inverse masses are as last read and holds no pin is only
+        // searched for a free particle, with no branch; the rest go one by one.
+        for start in (0..whole).step_by(SCAN_RUN) {
+            let run = start..start + SCAN_RUN;
+            let (state, inv_mass) = (&state[run.clone()], &inv_mass[run.clone()]);
+            let w = &self.w[run];
+            let (mut changed, mut free, mut pin) = (false, false, false);
+            for k in 0..SCAN_RUN {
+                let burnt = state[k].is_burnt();
+                let pinned = inv_mass[k] == 0.0;
+                let mass_inverse = if burnt { 0.0 } else { inv_mass[k] };
+                changed |= mass_inverse.to_bits() != w[k].to_bits();
+                free |= !burnt & !pinned;
+                pin |= pinned & !burnt;
+            }
+            news.free |= free;
+            if changed || pin {
+                for i in start..start + SCAN_RUN {
+                    read_one(particles, i, &mut self.w, &mut self.dirty, &mut news);
+                }
             }
         }
+        for i in whole..n {
+            read_one(particles, i, &mut self.w, &mut self.dirty, &mut news);
+        }
+        let PinNews {
+            changed: pins_changed,
+            moving: pins_moving,
+            free: any_free,
+            ..
+        } = news;
         if !any_free {
             return PinNews {
                 changed: pins_changed,
@@ -1641,6 +1659,35 @@ impl<'a> SlotChunk<'a> {
                 u[i] = moving[i] * h * v[i];
             }
         }
+    }
+}
+
+/// Particles [`XpbdSolver::read`] first looks over at a time for a change of inverse mass or a
+/// pin, with no branch.
+const SCAN_RUN: usize = 16;
+
+/// Reads particle `i`'s inverse mass into `w` (zero once burnt), listing it in `dirty` when
+/// it changed, and adds to `news` whether it is free, a moving pin, or a pin that came or went.
+#[inline(always)]
+fn read_one(
+    particles: &Particles,
+    i: usize,
+    w: &mut [f32],
+    dirty: &mut Vec<u32>,
+    news: &mut PinNews,
+) {
+    let burnt = particles.state[i].is_burnt();
+    let pinned = particles.inv_mass[i] == 0.0;
+    news.free |= !burnt && !pinned;
+    news.moving |= pinned && !burnt && particles.velocity[i] != glam::Vec3::ZERO;
+    let mass_inverse = if burnt { 0.0 } else { particles.inv_mass[i] };
+    let w = &mut w[i];
+    if mass_inverse.to_bits() != w.to_bits() {
+        // Not burnt, and from or to zero: a pin came or went (the first read after a layout
+        // sees every particle change, from NaN; that is no pin change).
+        news.changed |= !burnt && !w.is_nan() && (*w == 0.0) != pinned;
+        *w = mass_inverse;
+        dirty.push(i as u32);
     }
 }
 
