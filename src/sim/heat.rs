@@ -282,8 +282,11 @@ fn for_each_near_fire(
     }
     let (low, high) = (low - Vec3::splat(radius), high + Vec3::splat(radius));
     let inside = |p: Vec3| p.cmpge(low).all() && p.cmple(high).all();
-    // Cells twice the radius: a query visits at most 8 of them instead of 27.
-    workspace.hash.build(position, 2.0 * radius, |j| {
+    // Cells three times the radius: a query's box (twice the radius across) overlaps at most
+    // 8 of them, and on average 4.6 (at twice the radius, always 8, most of them empty, as a
+    // cloth is a sheet; at four times, 3.4, but with more particles each where the cloth lies
+    // in folds). A burning 64 x 64 cloth's heat phase: 0.057 -> 0.055 ms a frame.
+    workspace.hash.build(position, 3.0 * radius, |j| {
         !state[j].is_burnt() && inside(position[j])
     });
     let hash = core::mem::take(&mut workspace.hash);
