@@ -14,6 +14,7 @@
 //! | `kernel` | the projection loops over plain `f32` arrays, four springs at a time |
 //! | `adjacency` | each particle's springs, so a burn or a pin touches only those |
 //! | `stretch_limit` | Provot's limit on the heated springs, sorted into the grid's bands |
+//! | `staggered` | arrays that start at chosen offsets within a page, so loads and stores to separate arrays do not alias |
 //! | [`XpbdSolver`] | a cloth's state as separate arrays, and the substep loop |
 //!
 //! Where its accuracy ends: one constraint pass per substep does not solve stiff springs
@@ -25,6 +26,7 @@ mod adjacency;
 mod kernel;
 pub mod lanes;
 mod solver;
+mod staggered;
 mod stretch_limit;
 
 pub use solver::{StretchLimit, Surroundings, XpbdSolver};

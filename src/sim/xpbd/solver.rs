@@ -15,6 +15,7 @@ use super::kernel::{
     Arrays, RunData, project_indexed, project_shared, project_shared_together, project_split,
 };
 use super::lanes::{Band, GridLanes, GridSlots, Lane};
+use super::staggered::Staggered;
 use super::stretch_limit::{Flat, LimitedSprings, RoundTallies, Rows, limit_all, limit_bucket};
 use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
@@ -183,45 +184,53 @@ struct PinNews {
     uniform: Option<[f32; 3]>,
 }
 
-/// The per-slot arrays.
+/// The per-slot arrays; those of `f32` each start at its own offset within a page
+/// ([`staggered`](super::staggered)).
 #[derive(Clone, Debug, Default)]
 struct SlotArrays {
     /// The particle in each slot (`PHANTOM` for padding).
     particle: Vec<u32>,
-    x: [Vec<f32>; 3],
-    v: [Vec<f32>; 3],
-    u: [Vec<f32>; 3],
-    acceleration: [Vec<f32>; 3],
+    x: [Staggered; 3],
+    v: [Staggered; 3],
+    u: [Staggered; 3],
+    acceleration: [Staggered; 3],
     /// 1 for particles the solver moves freely, 0 for pins, burnt particles and padding.
-    free: Vec<f32>,
+    free: Staggered,
     /// 1 for particles that move at all (free ones and pins following their anchor).
-    moving: Vec<f32>,
+    moving: Staggered,
     /// Index in `pin_slots` of the pin the slot is tethered to (0 for none), and how far from
     /// it it may be (m; infinite for none).
     tether_pin: Vec<u32>,
-    tether_length: Vec<f32>,
+    tether_length: Staggered,
     /// Where the pin of each slot's tether is (m), while pins stand still.
-    tether_target: [Vec<f32>; 3],
+    tether_target: [Staggered; 3],
 }
+
+/// Arrays of `f32` per slot, and so offsets within a page to spread them over.
+const SLOT_FLOATS: usize = 17;
 
 impl SlotArrays {
     fn resize(&mut self, slots: usize) {
-        for array in self
+        let infinite = f32::INFINITY;
+        let arrays = self
             .x
             .iter_mut()
             .chain(&mut self.v)
             .chain(&mut self.u)
             .chain(&mut self.acceleration)
             .chain(&mut self.tether_target)
-            .chain([&mut self.free, &mut self.moving])
-        {
-            array.clear();
-            array.resize(slots, 0.0);
+            .map(|array| (array, 0.0))
+            .chain([
+                (&mut self.free, 0.0),
+                (&mut self.moving, 0.0),
+                (&mut self.tether_length, infinite),
+            ]);
+        for (k, (array, value)) in arrays.enumerate() {
+            // Spread over the page, each on a cache line of its own.
+            array.reset(slots, value, k * 4096 / SLOT_FLOATS / 64 * 64);
         }
         self.tether_pin.clear();
         self.tether_pin.resize(slots, 0);
-        self.tether_length.clear();
-        self.tether_length.resize(slots, f32::INFINITY);
         self.particle.clear();
         self.particle.resize(slots, PHANTOM);
     }
@@ -243,15 +252,15 @@ impl SlotArrays {
         } = self;
         let mut rest = SlotChunk {
             particle,
-            x: x.each_mut().map(|a| a.as_mut_slice()),
-            v: v.each_mut().map(|a| a.as_mut_slice()),
-            u: u.each_mut().map(|a| a.as_mut_slice()),
-            acceleration: acceleration.each_mut().map(|a| a.as_mut_slice()),
+            x: x.each_mut().map(|a| &mut a[..]),
+            v: v.each_mut().map(|a| &mut a[..]),
+            u: u.each_mut().map(|a| &mut a[..]),
+            acceleration: acceleration.each_mut().map(|a| &mut a[..]),
             free,
             moving,
             tether_pin,
             tether_length,
-            tether_target: tether_target.each_mut().map(|a| a.as_mut_slice()),
+            tether_target: tether_target.each_mut().map(|a| &mut a[..]),
         };
         core::iter::from_fn(move || {
             (!rest.free.is_empty()).then(|| {
@@ -272,7 +281,7 @@ impl SlotArrays {
             .chain(&self.acceleration)
             .chain(&self.tether_target)
             .chain([&self.free, &self.moving, &self.tether_length])
-            .map(Vec::capacity)
+            .map(Staggered::capacity)
             .sum();
         (floats + self.tether_pin.capacity() + self.particle.capacity()) * size_of::<f32>()
     }
@@ -1200,17 +1209,17 @@ struct SharedSlots<'a> {
 #[allow(unsafe_code)]
 impl<'a> SharedSlots<'a> {
     fn new(slots: &'a mut SlotArrays) -> Self {
-        let axes = |a: &'a mut [Vec<f32>; 3]| a.each_mut().map(|a| Disjoint::new(a));
+        let axes = |a: &'a mut [Staggered; 3]| a.each_mut().map(|a| Disjoint::new(&mut a[..]));
         Self {
             particle: Disjoint::new(&mut slots.particle),
             x: axes(&mut slots.x),
             v: axes(&mut slots.v),
             u: axes(&mut slots.u),
             acceleration: axes(&mut slots.acceleration),
-            free: Disjoint::new(&mut slots.free),
-            moving: Disjoint::new(&mut slots.moving),
+            free: Disjoint::new(&mut slots.free[..]),
+            moving: Disjoint::new(&mut slots.moving[..]),
             tether_pin: Disjoint::new(&mut slots.tether_pin),
-            tether_length: Disjoint::new(&mut slots.tether_length),
+            tether_length: Disjoint::new(&mut slots.tether_length[..]),
             tether_target: axes(&mut slots.tether_target),
         }
     }
@@ -1860,7 +1869,7 @@ fn grid_layout(grid: GridShape, springs: &Springs, particles: usize) -> Option<L
 /// so it vectorises. It may say yes when the guard puts nothing back (a finite velocity
 /// whose square overflows), never no when it puts something back: its answer only decides
 /// whether each particle is tested.
-fn any_blown(x: &[Vec<f32>; 3], v: &[Vec<f32>; 3], free: &[f32], max_speed_squared: f32) -> bool {
+fn any_blown(x: &[Staggered; 3], v: &[Staggered; 3], free: &[f32], max_speed_squared: f32) -> bool {
     let n = free.len();
     let (x0, x1, x2) = (&x[0][..n], &x[1][..n], &x[2][..n]);
     let (v0, v1, v2) = (&v[0][..n], &v[1][..n], &v[2][..n]);
