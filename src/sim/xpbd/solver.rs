@@ -2014,10 +2014,15 @@ mod tests {
     /// A 9 x 7 cotton grid 5 cm apart pinned along its top, its grid shape, and forces with
     /// cotton's springs.
     fn hanging_grid() -> (Particles, Springs, Option<GridShape>, ForceParams) {
-        use crate::sim::ClothBuilder;
+        cotton(crate::sim::ClothBuilder::grid(9, 7, 0.05).pin_top_edge())
+    }
+
+    /// A cotton cloth as `builder` makes it, its grid shape, and forces with cotton's springs.
+    fn cotton(
+        builder: crate::sim::ClothBuilder,
+    ) -> (Particles, Springs, Option<GridShape>, ForceParams) {
         use crate::sim::material::BurnMaterial;
-        let parts = ClothBuilder::grid(9, 7, 0.05)
-            .pin_top_edge()
+        let parts = builder
             .build(&BurnMaterial::COTTON, glam::Affine3A::IDENTITY)
             .unwrap();
         let params = ForceParams {
@@ -2046,36 +2051,62 @@ mod tests {
         }
     }
 
-    /// The per-slot pass with tethers and no colliders runs tethers and the velocity update
-    /// slot by slot, in one pass: every array comes out as the two passes leave it, to the
-    /// bit, pulled particles included.
-    #[test]
-    fn the_fused_per_slot_pass_equals_tethers_then_the_velocity_update() {
-        let n = 37;
+    /// `n` slots of made-up state: positions, velocities, motions and tether targets from a
+    /// fixed pattern, every fourth slot pinned, every ninth still, every third untethered,
+    /// and the acceleration `acceleration(slot, axis)`.
+    fn patterned_slots(
+        n: usize,
+        acceleration: impl Fn(&SlotArrays, usize, usize) -> f32,
+    ) -> SlotArrays {
         let mut slots = SlotArrays::default();
         slots.resize(n);
         let wave = |s: usize, k: usize| ((s * 7 + k * 13) % 17) as f32 / 17.0 - 0.5;
         for s in 0..n {
+            slots.free[s] = f32::from(s % 4 != 0);
+            slots.moving[s] = f32::from(s % 9 != 0);
+            slots.tether_length[s] = if s % 3 == 0 { f32::INFINITY } else { 0.1 };
             for k in 0..3 {
                 slots.x[k][s] = wave(s, k);
                 slots.v[k][s] = 0.3 * wave(s, k + 3);
                 slots.u[k][s] = 0.01 * wave(s, k + 6);
-                slots.acceleration[k][s] = -9.81 * f32::from(k == 1 && s % 5 != 0);
+                slots.acceleration[k][s] = acceleration(&slots, s, k);
                 slots.tether_target[k][s] = 0.2 * wave(s, k + 9);
             }
-            slots.free[s] = f32::from(s % 4 != 0);
-            slots.moving[s] = f32::from(s % 9 != 0);
-            slots.tether_length[s] = if s % 3 == 0 { f32::INFINITY } else { 0.1 };
         }
-        let step = Substep {
+        slots
+    }
+
+    /// A 1/360 s substep with air drag, no collider, the accelerations from their arrays, and
+    /// tethers when `tethered`.
+    fn still_substep(tethered: bool) -> Substep<'static> {
+        Substep {
             h: 1.0 / 360.0,
             drag: 0.4,
             uniform: None,
             colliders: &[],
             margin: 0.0,
-            tethered: true,
+            tethered,
             refresh_targets: false,
-        };
+        }
+    }
+
+    /// The bits of every slot's position, velocity and motion.
+    fn motion_bits(arrays: &SlotArrays) -> Vec<u32> {
+        [&arrays.x, &arrays.v, &arrays.u]
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|value| value.to_bits())
+            .collect()
+    }
+
+    /// The per-slot pass with tethers and no colliders runs tethers and the velocity update
+    /// slot by slot, in one pass: every array comes out as the two passes leave it, to the
+    /// bit, pulled particles included.
+    #[test]
+    fn the_fused_per_slot_pass_equals_tethers_then_the_velocity_update() {
+        let mut slots = patterned_slots(37, |_, s, k| -9.81 * f32::from(k == 1 && s % 5 != 0));
+        let step = still_substep(true);
         let original = slots.clone();
         let mut apart = slots.clone();
         slots
@@ -2086,14 +2117,7 @@ mod tests {
         let mut chunk = apart.parts(1).next().unwrap();
         chunk.tethers();
         chunk.finish_and_predict::<false>(step.h, step.drag, [0.0; 3]);
-        let bits = |arrays: &SlotArrays| -> Vec<u32> {
-            [&arrays.x, &arrays.v, &arrays.u]
-                .into_iter()
-                .flatten()
-                .flatten()
-                .map(|value| value.to_bits())
-                .collect()
-        };
+        let bits = motion_bits;
         assert_eq!(bits(&slots), bits(&apart));
         // The tethers pulled: without them the velocity update alone ends elsewhere.
         let mut untethered = apart.clone();
@@ -2114,42 +2138,13 @@ mod tests {
     /// phase, with tethers and without.
     #[test]
     fn one_acceleration_for_all_moves_as_the_arrays_do() {
-        let n = 37;
         let a = [0.25, -9.81, 0.5];
-        let mut slots = SlotArrays::default();
-        slots.resize(n);
-        let wave = |s: usize, k: usize| ((s * 7 + k * 13) % 17) as f32 / 17.0 - 0.5;
-        for s in 0..n {
-            slots.free[s] = f32::from(s % 4 != 0);
-            slots.moving[s] = f32::from(s % 9 != 0);
-            slots.tether_length[s] = if s % 3 == 0 { f32::INFINITY } else { 0.1 };
-            for (k, &a) in a.iter().enumerate() {
-                slots.x[k][s] = wave(s, k);
-                slots.v[k][s] = 0.3 * wave(s, k + 3);
-                slots.u[k][s] = 0.01 * wave(s, k + 6);
-                slots.acceleration[k][s] = a * slots.free[s];
-                slots.tether_target[k][s] = 0.2 * wave(s, k + 9);
-            }
-        }
-        let bits = |arrays: &SlotArrays| -> Vec<u32> {
-            [&arrays.x, &arrays.v, &arrays.u]
-                .into_iter()
-                .flatten()
-                .flatten()
-                .map(|value| value.to_bits())
-                .collect()
-        };
+        // The copy-in's accelerations: `a` for the free slots, zero for the rest.
+        let slots = patterned_slots(37, |slots, s, k| a[k] * slots.free[s]);
+        let bits = motion_bits;
         for tethered in [false, true] {
             for phase in [Phase::PredictOnly, Phase::FinishAndPredict, Phase::Finish] {
-                let step = Substep {
-                    h: 1.0 / 360.0,
-                    drag: 0.4,
-                    uniform: None,
-                    colliders: &[],
-                    margin: 0.0,
-                    tethered,
-                    refresh_targets: false,
-                };
+                let step = still_substep(tethered);
                 let (mut arrays, mut one) = (slots.clone(), slots.clone());
                 // The copy-in leaves the arrays unwritten: whatever is in them is not read.
                 for axis in &mut one.acceleration {
@@ -2177,19 +2172,11 @@ mod tests {
     /// stepped here on one thread: every band's slots must move.
     #[test]
     fn an_external_force_accelerates_the_cloth_as_gravity_does() {
-        use crate::sim::ClothBuilder;
-        use crate::sim::material::BurnMaterial;
-        let parts = ClothBuilder::grid(16, PARALLEL_SLOTS as u32 / 16, 0.02)
-            .build(&BurnMaterial::COTTON, glam::Affine3A::IDENTITY)
-            .unwrap();
-        let params = ForceParams {
-            coefficients: SpringCoefficients::from_material(
-                &BurnMaterial::COTTON,
-                parts.topology.particle_mass,
-            ),
-            ..ForceParams::default()
-        };
-        let (mut pushed, springs, grid) = (parts.particles, parts.springs, parts.topology.grid);
+        let (mut pushed, springs, grid, params) = cotton(crate::sim::ClothBuilder::grid(
+            16,
+            PARALLEL_SLOTS as u32 / 16,
+            0.02,
+        ));
         let mut falling = pushed.clone();
         let a = glam::Vec3::new(0.6, -2.0, 1.2);
         for i in 0..pushed.len() {
