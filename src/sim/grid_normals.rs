@@ -180,7 +180,7 @@ fn normal_row_portable(
 /// `v` normalised, or `+Z` where it has no direction (zero or not finite): what
 /// `Vec3A::try_normalize(..).unwrap_or(Vec3A::Z)` gives, without a branch.
 #[inline(always)]
-fn unit_or_z(v: [f32; 3]) -> [f32; 3] {
+pub(crate) fn unit_or_z(v: [f32; 3]) -> [f32; 3] {
     let inverse = 1.0 / (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     let ok = mask(inverse.is_finite() & (inverse > 0.0));
     [

@@ -454,7 +454,9 @@ fn add_faces(
 /// Each vertex's unit normal from its sum of faces, `+Z` where it has none.
 fn normalise(out: &mut [[f32; 3]], sums: &[Vec3A]) {
     for (normal, sum) in out.iter_mut().zip(sums) {
-        *normal = sum.try_normalize().unwrap_or(Vec3A::Z).to_array();
+        // What `sum.try_normalize().unwrap_or(Vec3A::Z)` gives, with no branch: burnt
+        // vertices (no faces) are scattered through a burning cloth.
+        *normal = grid_normals::unit_or_z(sum.to_array());
     }
 }
 
@@ -495,6 +497,39 @@ pub fn burn_attribute(
 mod tests {
     use super::*;
     use crate::sim::{ClothBuilder, GridPlane};
+
+    /// The branch-free normalisation gives `Vec3A::try_normalize(..).unwrap_or(Vec3A::Z)`
+    /// to the bit: unit vectors of sums large and small, `+Z` for a zero, non-finite or
+    /// overflowing sum.
+    #[test]
+    fn normalise_gives_try_normalize_to_the_bit() {
+        let mut sums = vec![
+            Vec3A::ZERO,
+            Vec3A::new(1e-30, 0.0, 0.0),
+            Vec3A::new(1e-20, -3e-21, 2e-20),
+            Vec3A::new(3e19, 4e19, 0.0),
+            Vec3A::new(3e30, 4e30, 1e30),
+            Vec3A::new(f32::NAN, 1.0, 0.0),
+            Vec3A::new(f32::INFINITY, 0.0, 0.0),
+            Vec3A::new(-0.0, -0.0, -0.0),
+        ];
+        for k in 0..500 {
+            let t = k as f32;
+            sums.push(
+                Vec3A::new((t * 0.37).sin(), (t * 1.13).cos(), (t * 0.71).sin() * 3.0) * (1.0 + t),
+            );
+        }
+        let mut normals = vec![[0.0; 3]; sums.len()];
+        normalise(&mut normals, &sums);
+        for (normal, sum) in normals.iter().zip(&sums) {
+            let expected = sum.try_normalize().unwrap_or(Vec3A::Z).to_array();
+            assert_eq!(
+                normal.map(f32::to_bits),
+                expected.map(f32::to_bits),
+                "{sum}"
+            );
+        }
+    }
 
     #[test]
     fn a_flat_cloth_faces_forward_and_a_burnt_corner_is_left_out() {
