@@ -15,7 +15,7 @@ use super::kernel::{
     Arrays, RunData, project_indexed, project_shared, project_shared_together, project_split,
 };
 use super::lanes::{Band, GridLanes, GridSlots, Lane};
-use super::staggered::Staggered;
+use super::staggered::{self, Staggered};
 use super::stretch_limit::{Flat, LimitedSprings, RoundTallies, Rows, limit_all, limit_bucket};
 use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
@@ -206,14 +206,10 @@ struct SlotArrays {
     tether_target: [Staggered; 3],
 }
 
-/// Arrays of `f32` per slot, and so offsets within a page to spread them over.
-const SLOT_FLOATS: usize = 17;
-
 impl SlotArrays {
-    fn resize(&mut self, slots: usize) {
-        let infinite = f32::INFINITY;
-        let arrays = self
-            .x
+    /// Every array of `f32`, with the value a slot holds before it is first read.
+    fn floats_mut(&mut self) -> impl Iterator<Item = (&mut Staggered, f32)> {
+        self.x
             .iter_mut()
             .chain(&mut self.v)
             .chain(&mut self.u)
@@ -223,11 +219,14 @@ impl SlotArrays {
             .chain([
                 (&mut self.free, 0.0),
                 (&mut self.moving, 0.0),
-                (&mut self.tether_length, infinite),
-            ]);
-        for (k, (array, value)) in arrays.enumerate() {
-            // Spread over the page, each on a cache line of its own.
-            array.reset(slots, value, k * 4096 / SLOT_FLOATS / 64 * 64);
+                (&mut self.tether_length, f32::INFINITY),
+            ])
+    }
+
+    fn resize(&mut self, slots: usize) {
+        let count = self.floats_mut().count();
+        for (k, (array, value)) in self.floats_mut().enumerate() {
+            array.reset(slots, value, staggered::spread(k, count));
         }
         self.tether_pin.clear();
         self.tether_pin.resize(slots, 0);
@@ -518,19 +517,8 @@ impl XpbdSolver {
         for i in whole..n {
             read_one(particles, i, &mut self.w, &mut self.dirty, &mut news);
         }
-        let PinNews {
-            changed: pins_changed,
-            moving: pins_moving,
-            free: any_free,
-            ..
-        } = news;
-        if !any_free {
-            return PinNews {
-                changed: pins_changed,
-                moving: pins_moving,
-                free: false,
-                uniform: None,
-            };
+        if !news.free {
+            return news;
         }
         let drag = params.drag_per_mass.max(0.0);
         let constant = params.gravity + drag * params.wind;
@@ -559,12 +547,7 @@ impl XpbdSolver {
                 &mut self.rest,
             );
         }
-        PinNews {
-            changed: pins_changed,
-            moving: pins_moving,
-            free: any_free,
-            uniform,
-        }
+        PinNews { uniform, ..news }
     }
 
     /// Recomputes the spring factors: all of them when the step, the bending springs'
@@ -1458,16 +1441,29 @@ impl<'a> SlotChunk<'a> {
 
     #[inline(always)]
     fn run_portable(&mut self, pins: &[[f32; 3]], step: &Substep, phase: Phase) {
+        match step.uniform {
+            Some(a) => self.run_with::<true>(pins, step, phase, a),
+            None => self.run_with::<false>(pins, step, phase, [0.0; 3]),
+        }
+    }
+
+    /// [`Self::run`], the outside accelerations `uniform` for every slot when `UNIFORM`, else
+    /// from the acceleration arrays.
+    #[inline(always)]
+    fn run_with<const UNIFORM: bool>(
+        &mut self,
+        pins: &[[f32; 3]],
+        step: &Substep,
+        phase: Phase,
+        uniform: [f32; 3],
+    ) {
         if phase == Phase::FinishAndPredict && step.tethered && step.colliders.is_empty() {
             // Tethers, then the end of the substep and the start of the next, slot by slot:
             // one pass over the arrays instead of two (the same operations on each slot).
             if step.refresh_targets {
                 self.place_targets(pins);
             }
-            match step.uniform {
-                Some(a) => self.tethers_finish_and_predict::<true>(step.h, step.drag, a),
-                None => self.tethers_finish_and_predict::<false>(step.h, step.drag, [0.0; 3]),
-            }
+            self.tethers_finish_and_predict::<UNIFORM>(step.h, step.drag, uniform);
             return;
         }
         if phase != Phase::PredictOnly {
@@ -1482,14 +1478,10 @@ impl<'a> SlotChunk<'a> {
             }
         }
         match phase {
-            Phase::PredictOnly => match step.uniform {
-                Some(a) => self.predict::<true>(step.h, step.drag, a),
-                None => self.predict::<false>(step.h, step.drag, [0.0; 3]),
-            },
-            Phase::FinishAndPredict => match step.uniform {
-                Some(a) => self.finish_and_predict::<true>(step.h, step.drag, a),
-                None => self.finish_and_predict::<false>(step.h, step.drag, [0.0; 3]),
-            },
+            Phase::PredictOnly => self.predict::<UNIFORM>(step.h, step.drag, uniform),
+            Phase::FinishAndPredict => {
+                self.finish_and_predict::<UNIFORM>(step.h, step.drag, uniform)
+            }
             Phase::Finish => self.finish(step.h),
         }
     }
@@ -2074,6 +2066,22 @@ mod tests {
             }
         }
         slots
+    }
+
+    /// Every per-slot array of `f32` starts on a cache line of its own within a page, so no
+    /// two alias (see [`staggered`]).
+    #[test]
+    fn the_slot_arrays_start_on_separate_lines_of_a_page() {
+        let mut slots = SlotArrays::default();
+        slots.resize(4096);
+        let mut lines: Vec<usize> = slots
+            .floats_mut()
+            .map(|(array, _)| array.as_ptr() as usize % 4096 / 64)
+            .collect();
+        let count = lines.len();
+        lines.sort_unstable();
+        lines.dedup();
+        assert_eq!(lines.len(), count, "{lines:?}");
     }
 
     /// A 1/360 s substep with air drag, no collider, the accelerations from their arrays, and

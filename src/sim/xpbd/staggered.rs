@@ -1,18 +1,26 @@
 //! Arrays of `f32` that start at chosen offsets within a 4 KiB page.
 //!
-//! The per-slot pass reads and writes seventeen arrays of one length slot by slot. Allocated
-//! one after another they start at nearly the same offset within a page (a 64 x 64 cloth's
+//! The per-slot pass reads and writes up to eighteen arrays of one length slot by slot.
+//! Allocated one after another they start at nearly the same offset within a page (a 64 x 64 cloth's
 //! are 16 KiB each), so a load from one array and a store just made to another at the same
 //! slot share their low twelve address bits, and the processor holds the load back as if it
 //! read the store's bytes (4K aliasing). Each array here starts at its own offset, spread over
 //! the page: a burning 64 x 64 cloth's dynamics took 0.331–0.338 ms a frame with the arrays
 //! where the allocator put them and 0.304–0.317 spread (three alternated runs of `stress
-//! --default-only`), 32 x 32 0.087–0.088 and 0.080–0.084.
+//! --default-only`), 32 x 32 0.087–0.088 and 0.080–0.084. (Those runs spread eighteen
+//! arrays over seventeen offsets, so two shared one; with one each, three more alternated
+//! runs: 64 x 64 0.307–0.311 → 0.302–0.306, 32 x 32 0.081–0.083 → 0.080–0.081.)
 
 use core::ops::{Deref, DerefMut};
 
 /// Bytes in the page the offsets are taken within.
 const PAGE: usize = 4096;
+
+/// The offset, bytes within a page, of array `k` of `count` spread evenly over the page, each
+/// at the start of a cache line of its own (for `count` up to 64).
+pub(super) fn spread(k: usize, count: usize) -> usize {
+    (k * PAGE / count.max(1)) / 64 * 64 % PAGE
+}
 
 /// An array of `f32` whose first element lies `offset` bytes past the start of a page (as
 /// [`Staggered::reset`] placed it: a clone holds the same values wherever its allocator puts
@@ -94,5 +102,18 @@ mod tests {
         }
         let copy = arrays[3].clone();
         assert_eq!(&copy[..], &arrays[3][..]);
+    }
+
+    /// Eighteen arrays spread over a page start on eighteen different cache lines.
+    #[test]
+    fn spread_offsets_are_distinct_cache_lines() {
+        let mut lines: Vec<usize> = (0..18).map(|k| spread(k, 18)).collect();
+        assert!(
+            lines
+                .iter()
+                .all(|&offset| offset % 64 == 0 && offset < PAGE)
+        );
+        lines.dedup();
+        assert_eq!(lines.len(), 18);
     }
 }
