@@ -15,7 +15,8 @@ use rand::{Rng, RngExt};
 pub const TURBULENCE_MODES: usize = 6;
 
 /// Lanes the modes are evaluated in at once: the modes and two empty ones, so the angles and
-/// cosines of a point are one 8-wide loop the compiler turns into SIMD instructions.
+/// cosines of a point are one 8-wide loop the compiler turns into SIMD instructions; and the
+/// points [`Turbulence::velocities`] takes at once.
 pub const LANES: usize = 8;
 
 /// A divergence-free velocity field of unit RMS speed (scale it by the speed you want).
