@@ -1692,12 +1692,46 @@ fn read_one(
     }
 }
 
+/// Vectors [`no_force`] takes at a time: twelve components in separate lanes.
+const FORCE_CHUNK: usize = 4;
+
 /// Whether no particle has an external force (each component zero, of either sign): then
-/// every free particle's outside acceleration is the same. One pass with no branch.
+/// every free particle's outside acceleration is the same. One pass with no branch, the
+/// components of [`FORCE_CHUNK`] vectors at a time in separate lanes, compiled for AVX too
+/// and taken where the CPU has it. Folded into one value, each vector's three components
+/// waited for one another: over 65 536 vectors (a 256 x 256 cloth, every frame) a copy of
+/// the loop outside the crate took 65.7 µs that way, 29.1 in lanes, 9.6 in lanes with AVX.
 fn no_force(force: &[glam::Vec3]) -> bool {
-    let bits = force.iter().fold(0u32, |bits, f| {
+    #[cfg(target_arch = "x86_64")]
+    if crate::sim::simd::avx_available() {
+        #[target_feature(enable = "avx")]
+        fn no_force_avx(force: &[glam::Vec3]) -> bool {
+            no_force_portable(force)
+        }
+        // SAFETY: this CPU has AVX.
+        #[allow(unsafe_code)]
+        return unsafe { no_force_avx(force) };
+    }
+    no_force_portable(force)
+}
+
+/// [`no_force`] on any CPU.
+#[inline(always)]
+fn no_force_portable(force: &[glam::Vec3]) -> bool {
+    let chunks = force.chunks_exact(FORCE_CHUNK);
+    let tail = chunks.remainder();
+    let mut lanes = [0u32; 3 * FORCE_CHUNK];
+    for chunk in chunks {
+        for (k, f) in chunk.iter().enumerate() {
+            lanes[3 * k] |= f.x.to_bits();
+            lanes[3 * k + 1] |= f.y.to_bits();
+            lanes[3 * k + 2] |= f.z.to_bits();
+        }
+    }
+    let bits = tail.iter().fold(0u32, |bits, f| {
         bits | f.x.to_bits() | f.y.to_bits() | f.z.to_bits()
     });
+    let bits = lanes.iter().fold(bits, |bits, lane| bits | lane);
     bits & !(1 << 31) == 0
 }
 
@@ -2293,6 +2327,35 @@ mod tests {
             y(bottom + 4),
             y(bottom + 2)
         );
+    }
+
+    /// Any non-zero component of any vector, in a whole chunk or the tail, is a force; zeros
+    /// of either sign are not. The same with AVX and without.
+    #[test]
+    fn no_force_finds_any_non_zero_component() {
+        let both = |force: &[glam::Vec3]| {
+            let (portable, chosen) = (no_force_portable(force), no_force(force));
+            assert_eq!(portable, chosen, "{force:?}");
+            chosen
+        };
+        for n in [0, 1, 3, 4, 5, 8, 13] {
+            let mut force = vec![glam::Vec3::ZERO; n];
+            assert!(both(&force), "{n} zeros");
+            if n == 0 {
+                continue;
+            }
+            force[n / 2] = glam::Vec3::new(-0.0, 0.0, -0.0);
+            assert!(both(&force), "{n}: a negative zero is no force");
+            for i in 0..n {
+                for axis in 0..3 {
+                    for value in [1.0e-30, -2.0, f32::NAN, f32::INFINITY] {
+                        let mut pushed = force.clone();
+                        pushed[i][axis] = value;
+                        assert!(!both(&pushed), "{n}: {value} at {i}, axis {axis}");
+                    }
+                }
+            }
+        }
     }
 
     /// A bending spring projected every other substep with the compliance of the two
