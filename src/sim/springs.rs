@@ -5,6 +5,7 @@
 //! one rest length by construction.
 
 use super::BurnMaterial;
+use super::front::LIMITED_BELOW;
 use super::particles::BurnState;
 use glam::Vec3;
 
@@ -132,6 +133,14 @@ impl Springs {
         !state[self.a[s] as usize].is_burnt() && !state[self.b[s] as usize].is_burnt()
     }
 
+    /// True when heat has shrunk spring `s`'s rest length below [`LIMITED_BELOW`] (99 %) of
+    /// the one it was built with: the springs the XPBD solver's stretch limit holds. A trace
+    /// of warmth (conduction, a plume's air over the whole cloth) shrinks a spring by less, and
+    /// it does not count.
+    pub fn is_shrunk(&self, s: usize) -> bool {
+        self.rest_length[s] < LIMITED_BELOW * self.initial_rest_length[s]
+    }
+
     /// Largest length / rest-length ratio over live springs of `kinds` with a non-zero rest
     /// length (a ratio to zero means nothing), or 1 if none.
     pub fn max_stretch(
@@ -140,10 +149,20 @@ impl Springs {
         state: &[BurnState],
         kinds: impl Fn(SpringKind) -> bool,
     ) -> f32 {
+        self.max_stretch_of(positions, state, |s| kinds(self.kind[s]))
+    }
+
+    /// Largest length / rest-length ratio over the live springs `s` with `include(s)` and a
+    /// non-zero rest length, or 1 if none. The ratio is to the current rest length: a spring
+    /// that heat has shrunk is measured against its shrunk length.
+    pub fn max_stretch_of(
+        &self,
+        positions: &[Vec3],
+        state: &[BurnState],
+        include: impl Fn(usize) -> bool,
+    ) -> f32 {
         (0..self.len())
-            .filter(|&s| {
-                kinds(self.kind[s]) && self.is_live(s, state) && self.rest_length[s] > 1e-9
-            })
+            .filter(|&s| include(s) && self.is_live(s, state) && self.rest_length[s] > 1e-9)
             .map(|s| {
                 let length = positions[self.a[s] as usize].distance(positions[self.b[s] as usize]);
                 length / self.rest_length[s]
@@ -269,6 +288,46 @@ mod tests {
     fn coincident_particles_get_no_force() {
         let f = spring_force(Vec3::ONE, Vec3::ONE, Vec3::ZERO, Vec3::X, 1.0, 100.0, 1.0);
         assert_eq!(f, Vec3::ZERO);
+    }
+
+    /// Springs 1 m long pulled to 1.2 m (the second shrunk to 0.5 m by heat) and a third to
+    /// 1.1 m: each is measured against its own rest length, and the filter picks which count.
+    #[test]
+    fn stretch_is_measured_against_each_springs_current_rest_length() {
+        let mut springs = Springs::default();
+        springs.push(0, 1, 1.0, SpringKind::Structural);
+        springs.push(2, 3, 1.0, SpringKind::Structural);
+        springs.push(4, 5, 1.0, SpringKind::Structural);
+        springs.rest_length[1] = 0.5;
+        // A trace of warmth, less than 1 %, does not count as shrunk; more does.
+        springs.rest_length[2] = 0.995;
+        assert!(!springs.is_shrunk(2));
+        springs.rest_length[2] = 0.985;
+        assert!(springs.is_shrunk(2));
+        springs.rest_length[2] = 1.0;
+        let positions = [
+            Vec3::ZERO,
+            Vec3::X * 1.2,
+            Vec3::Y,
+            Vec3::new(1.2, 1.0, 0.0),
+            Vec3::Z,
+            Vec3::Z * 2.1,
+        ];
+        let state = [BurnState::Intact; 6];
+        assert!(!springs.is_shrunk(0) && springs.is_shrunk(1));
+        let unheated = springs.max_stretch_of(&positions, &state, |s| !springs.is_shrunk(s));
+        let shrunk = springs.max_stretch_of(&positions, &state, |s| springs.is_shrunk(s));
+        assert!((unheated - 1.2).abs() < 1e-6, "{unheated}");
+        assert!((shrunk - 2.4).abs() < 1e-6, "{shrunk}");
+        let all = springs.max_stretch(&positions, &state, |k| k == SpringKind::Structural);
+        assert_eq!(all, shrunk);
+        // Nothing selected: no stretch.
+        assert_eq!(springs.max_stretch_of(&positions, &state, |_| false), 1.0);
+        // A burnt end takes a spring out: the 1.2 m one, leaving the 1.1 m one.
+        let mut burnt = state;
+        burnt[0] = BurnState::Burnt;
+        let left = springs.max_stretch_of(&positions, &burnt, |s| !springs.is_shrunk(s));
+        assert!((left - 1.1).abs() < 1e-6, "{left}");
     }
 
     #[test]

@@ -196,8 +196,20 @@ fn statistics(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
                     high = high.max(*t);
                 }
             }
-            let stretch = springs.max_stretch(&particles.position, &particles.state, |k| {
-                k == SpringKind::Structural
+            // Structural springs apart by whether heat has shrunk them (by over 1 %): a shrunk
+            // spring that the cold cloth around holds open is stretched against its shrunk
+            // length (the crumpling at the front), which is not the cloth giving way.
+            let structural_stretch = |shrunk: bool| {
+                springs.max_stretch_of(&particles.position, &particles.state, |s| {
+                    springs.kind[s] == SpringKind::Structural && springs.is_shrunk(s) == shrunk
+                })
+            };
+            let (unheated_stretch, shrunk_stretch) =
+                (structural_stretch(false), structural_stretch(true));
+            let any_shrunk = (0..springs.len()).any(|s| {
+                springs.kind[s] == SpringKind::Structural
+                    && springs.is_shrunk(s)
+                    && springs.is_live(s, &particles.state)
             });
             let energy = crate::sim::energy::cloth_energy(
                 particles,
@@ -237,7 +249,10 @@ fn statistics(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
                         p.timing.substeps
                     ),
                 );
-                row("max stretch", format!("{stretch:.3}"));
+                row("max stretch, unheated", format!("{unheated_stretch:.3}"));
+                if any_shrunk {
+                    row("max stretch, shrunk", format!("{shrunk_stretch:.3}"));
+                }
                 row("energy", format!("{energy:.3} J"));
                 if low <= high {
                     row("temperature", format!("{low:.0} to {high:.0} °C"));
