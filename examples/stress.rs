@@ -7,6 +7,7 @@
 //!
 //! `-- --default-only`: the size table for the default solver alone (a minute, for iterating);
 //! `-- --physical-heat-only`: the same under `HeatModel::PHYSICAL` (its flame front);
+//! `--substep-rate 720`: XPBD's substeps per second in the size table (360 by default);
 //! `--sizes 32 64`: only those sizes in the size table, or plume grids with `--plume-only`
 //! (for profiling one);
 //! `-- --many-only`: the twenty-cloth scene alone; `-- --wake-only`: what handing a task to
@@ -123,6 +124,9 @@ fn run(size: u32, integrator: Integrator, heat_model: HeatModel, pool: &TaskPool
     sim.update_settings(|s| {
         s.solver.integrator = integrator;
         s.solver.heat_model = heat_model;
+        if let Some(rate) = substep_rate() {
+            s.solver.substep_rate = rate;
+        }
     })
     .expect("valid settings");
     // Hang for 2 s, then measure the stretch and set it alight.
@@ -214,6 +218,15 @@ fn run(size: u32, integrator: Integrator, heat_model: HeatModel, pool: &TaskPool
 fn median(mut runs: Vec<Run>) -> Run {
     runs.sort_by(|a, b| a.total().total_cmp(&b.total()));
     runs[runs.len() / 2]
+}
+
+/// XPBD's substeps per second from `--substep-rate` (the size table's runs), when given:
+/// what more substeps cost, and buy in stretch.
+fn substep_rate() -> Option<f32> {
+    let args: Vec<String> = std::env::args().collect();
+    let at = args.iter().position(|a| a == "--substep-rate")?;
+    let rate = args.get(at + 1)?.parse().ok()?;
+    Some(rate)
 }
 
 /// The cloth sizes of the size table: 32, 64, 128 and 256, or those after `--sizes` (for
