@@ -72,14 +72,9 @@ impl BurningStretch {
         });
         shrunk.clear();
         shrunk.extend(
-            (0..springs.len())
-                .filter(|&s| {
-                    structural(s) && springs.is_shrunk(s) && springs.is_live(s, &particles.state)
-                })
-                .map(|s| {
-                    let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
-                    particles.position[a].distance(particles.position[b]) / springs.rest_length[s]
-                }),
+            springs.stretches(&particles.position, &particles.state, |s| {
+                structural(s) && springs.is_shrunk(s)
+            }),
         );
         shrunk.sort_by(f32::total_cmp);
         let p90 = shrunk.get(shrunk.len() * 9 / 10).copied().unwrap_or(1.0);

@@ -30,6 +30,13 @@ const SETTLED_RUN: usize = 16;
 /// cold one. Without this the limit ran over every spring of a cloth in a plume, each substep.
 pub const LIMITED_BELOW: f32 = 0.99;
 
+/// Whether a spring of rest length `rest` built `initial` long (m) has shrunk past
+/// [`LIMITED_BELOW`]: one of the springs the stretch limit holds.
+#[inline]
+pub fn is_shrunk_length(rest: f32, initial: f32) -> bool {
+    rest < LIMITED_BELOW * initial
+}
+
 /// Removes `item` from `list` (by swapping in the last item) if `place` says it is there;
 /// `place` holds each item's place in `list`, `NONE` when absent.
 fn remove_from(list: &mut Vec<u32>, place: &mut [u32], item: usize) {
@@ -523,7 +530,7 @@ impl Front {
             if by > 0.0 {
                 rest[spring] = (rest[spring] - by).max(floor * initial[spring]);
             }
-            if rest[spring] < LIMITED_BELOW * initial[spring] {
+            if is_shrunk_length(rest[spring], initial[spring]) {
                 self.shrunk.push(s);
             }
             self.shrinking[kept] = s;

@@ -5,7 +5,7 @@
 //! one rest length by construction.
 
 use super::BurnMaterial;
-use super::front::LIMITED_BELOW;
+use super::front::is_shrunk_length;
 use super::particles::BurnState;
 use glam::Vec3;
 
@@ -133,12 +133,13 @@ impl Springs {
         !state[self.a[s] as usize].is_burnt() && !state[self.b[s] as usize].is_burnt()
     }
 
-    /// True when heat has shrunk spring `s`'s rest length below [`LIMITED_BELOW`] (99 %) of
-    /// the one it was built with: the springs the XPBD solver's stretch limit holds. A trace
-    /// of warmth (conduction, a plume's air over the whole cloth) shrinks a spring by less, and
-    /// it does not count.
+    /// True when heat has shrunk spring `s`'s rest length below
+    /// [`LIMITED_BELOW`](super::front::LIMITED_BELOW) (99 %) of the one it was built with: the
+    /// springs the XPBD solver's stretch limit holds ([`is_shrunk_length`], the test the
+    /// front's shrink lists them by). A trace of warmth (conduction, a plume's air over the
+    /// whole cloth) shrinks a spring by less, and it does not count.
     pub fn is_shrunk(&self, s: usize) -> bool {
-        self.rest_length[s] < LIMITED_BELOW * self.initial_rest_length[s]
+        is_shrunk_length(self.rest_length[s], self.initial_rest_length[s])
     }
 
     /// Largest length / rest-length ratio over live springs of `kinds` with a non-zero rest
@@ -153,21 +154,32 @@ impl Springs {
     }
 
     /// Largest length / rest-length ratio over the live springs `s` with `include(s)` and a
-    /// non-zero rest length, or 1 if none. The ratio is to the current rest length: a spring
-    /// that heat has shrunk is measured against its shrunk length.
+    /// non-zero rest length, or 1 if none ([`Self::stretches`]).
     pub fn max_stretch_of(
         &self,
         positions: &[Vec3],
         state: &[BurnState],
         include: impl Fn(usize) -> bool,
     ) -> f32 {
+        self.stretches(positions, state, include)
+            .fold(1.0, f32::max)
+    }
+
+    /// Length / rest-length ratio of each live spring `s` with `include(s)` and a non-zero rest
+    /// length, in spring order. The ratio is to the current rest length: a spring that heat
+    /// has shrunk is measured against its shrunk length.
+    pub fn stretches<'a>(
+        &'a self,
+        positions: &'a [Vec3],
+        state: &'a [BurnState],
+        include: impl Fn(usize) -> bool + 'a,
+    ) -> impl Iterator<Item = f32> + 'a {
         (0..self.len())
-            .filter(|&s| include(s) && self.is_live(s, state) && self.rest_length[s] > 1e-9)
+            .filter(move |&s| include(s) && self.is_live(s, state) && self.rest_length[s] > 1e-9)
             .map(|s| {
                 let length = positions[self.a[s] as usize].distance(positions[self.b[s] as usize]);
                 length / self.rest_length[s]
             })
-            .fold(1.0, f32::max)
     }
 
     /// Elastic energy stored in live springs, J.
@@ -321,8 +333,15 @@ mod tests {
         assert!((shrunk - 2.4).abs() < 1e-6, "{shrunk}");
         let all = springs.max_stretch(&positions, &state, |k| k == SpringKind::Structural);
         assert_eq!(all, shrunk);
-        // Nothing selected: no stretch.
+        // Nothing selected: no stretch, and no ratio at all.
         assert_eq!(springs.max_stretch_of(&positions, &state, |_| false), 1.0);
+        assert_eq!(springs.stretches(&positions, &state, |_| false).count(), 0);
+        let each: Vec<f32> = springs.stretches(&positions, &state, |_| true).collect();
+        assert_eq!(each.len(), 3);
+        assert!(
+            (each[1] - 2.4).abs() < 1e-6 && (each[2] - 1.1).abs() < 1e-6,
+            "{each:?}"
+        );
         // A burnt end takes a spring out: the 1.2 m one, leaving the 1.1 m one.
         let mut burnt = state;
         burnt[0] = BurnState::Burnt;

@@ -199,18 +199,16 @@ fn statistics(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
             // Structural springs apart by whether heat has shrunk them (by over 1 %): a shrunk
             // spring that the cold cloth around holds open is stretched against its shrunk
             // length (the crumpling at the front), which is not the cloth giving way.
+            // `None` when there is no such spring.
             let structural_stretch = |shrunk: bool| {
-                springs.max_stretch_of(&particles.position, &particles.state, |s| {
-                    springs.kind[s] == SpringKind::Structural && springs.is_shrunk(s) == shrunk
-                })
+                springs
+                    .stretches(&particles.position, &particles.state, |s| {
+                        springs.kind[s] == SpringKind::Structural && springs.is_shrunk(s) == shrunk
+                    })
+                    .reduce(f32::max)
             };
             let (unheated_stretch, shrunk_stretch) =
                 (structural_stretch(false), structural_stretch(true));
-            let any_shrunk = (0..springs.len()).any(|s| {
-                springs.kind[s] == SpringKind::Structural
-                    && springs.is_shrunk(s)
-                    && springs.is_live(s, &particles.state)
-            });
             let energy = crate::sim::energy::cloth_energy(
                 particles,
                 springs,
@@ -249,8 +247,9 @@ fn statistics(ui: &mut egui::Ui, p: &mut PanelParams, entity: Entity) {
                         p.timing.substeps
                     ),
                 );
+                let unheated_stretch = unheated_stretch.unwrap_or(1.0);
                 row("max stretch, unheated", format!("{unheated_stretch:.3}"));
-                if any_shrunk {
+                if let Some(shrunk_stretch) = shrunk_stretch {
                     row("max stretch, shrunk", format!("{shrunk_stretch:.3}"));
                 }
                 row("energy", format!("{energy:.3} J"));
