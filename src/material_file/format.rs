@@ -101,6 +101,29 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_file_written_before_the_compression_fractions_loads_with_springs_stiff_both_ways() {
+        let text = material_to_ron(&BurnMaterial::COTTON).unwrap();
+        let old: String = text
+            .lines()
+            .filter(|line| !line.contains("compression_fraction"))
+            .map(|line| format!("{line}\n"))
+            .collect();
+        assert_eq!(
+            text.lines().count(),
+            old.lines().count() + 2,
+            "both were written"
+        );
+        let back = material_from_ron(&old).unwrap();
+        assert_eq!(
+            BurnMaterial {
+                name: BurnMaterial::COTTON.name,
+                ..back
+            },
+            BurnMaterial::COTTON.with_linear_springs()
+        );
+    }
+
+    #[test]
     fn every_preset_comes_back_from_its_text_unchanged_but_for_the_name() {
         for preset in BurnMaterial::PRESETS {
             let text = material_to_ron(&preset).unwrap();

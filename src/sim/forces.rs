@@ -74,15 +74,13 @@ impl ForceModel<'_> {
             if self.state[a].is_burnt() || self.state[b].is_burnt() {
                 continue;
             }
-            let kind = springs.kind[s] as usize;
             let f = spring_force(
                 position[a],
                 position[b],
                 velocity[a],
                 velocity[b],
                 springs.rest_length[s],
-                coefficients.stiffness[kind],
-                coefficients.damping[kind],
+                coefficients.law(springs.kind[s]),
             );
             out[a] += f;
             out[b] -= f;
@@ -103,6 +101,7 @@ mod tests {
             coefficients: SpringCoefficients {
                 stiffness: [100.0; 3],
                 damping: [0.0; 3],
+                ..SpringCoefficients::default()
             },
             ..Default::default()
         };

@@ -368,6 +368,7 @@ pub(crate) mod tests {
             coefficients: SpringCoefficients {
                 stiffness: [k; 3],
                 damping: [0.0; 3],
+                ..SpringCoefficients::default()
             },
             ..Default::default()
         };

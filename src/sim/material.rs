@@ -30,6 +30,23 @@ pub const MAX_TEMPERATURE: f32 = 1.0e5;
 /// spreads at the same speed at any resolution.
 pub const REFERENCE_SPACING: f32 = 0.03;
 
+/// The presets' [`BurnMaterial::structural_compression_fraction`]: 1 % of the stiffness.
+/// Not a measurement of a fabric: with it a flat burning cotton cloth's cold springs stretch
+/// no more than at 0.1 % (`examples/stress.rs`, 128 x 128 and 256 x 256).
+pub const YARN_COMPRESSION: f32 = 0.01;
+
+/// The presets' [`BurnMaterial::shear_compression_fraction`]: 10 % of the stiffness. Not a
+/// measurement of a fabric: the softest of 1, 0.3, 0.1 and 0.01 at which a hanging
+/// 256 x 256 cotton cloth's structural springs stay within 10 % of their length
+/// (`examples/stress.rs`: 1.099; 1.118 at 0.01).
+pub const BIAS_COMPRESSION: f32 = 0.1;
+
+/// What a material file written before the compression fractions existed gets: springs as
+/// stiff in compression as in tension, as they then were.
+fn full_compression() -> f32 {
+    1.0
+}
+
 /// The name a material gets when it comes back through reflection.
 fn custom_name() -> &'static str {
     "custom"
@@ -57,6 +74,24 @@ pub struct BurnMaterial {
     pub shear_stiffness: f32,
     /// Stiffness of bending springs (two apart), N/m.
     pub bend_stiffness: f32,
+    /// Stiffness of structural springs while they are shorter than their rest length, as a
+    /// fraction of `structural_stiffness` (dimensionless, in [0, 1]). Woven cloth buckles its
+    /// yarns rather than shorten them, so it gives far more to a push along a yarn than to a
+    /// pull. Without this, a flat cloth around a shrinking front has to take the front's pull
+    /// in stretched springs instead of giving sideways: a flat 256 x 256 cotton cloth's cold
+    /// springs stretched to 2.5 times their length with springs as stiff both ways, 1.7 with
+    /// the presets' fractions (`examples/stress.rs`). Files written before this field
+    /// existed load with 1, the behaviour they were written for.
+    #[reflect(default = "full_compression")]
+    pub structural_compression_fraction: f32,
+    /// Stiffness of shear springs (grid diagonals) while they are shorter than their rest
+    /// length, as a fraction of `shear_stiffness` (dimensionless, in [0, 1]). Cloth pushed
+    /// along its bias shears its weave (trellising) rather than buckle a yarn, so it gives
+    /// less readily than along a yarn. Bending springs (two apart) resist bending by resisting
+    /// compression, so they keep their full stiffness. Files written before this field
+    /// existed load with 1.
+    #[reflect(default = "full_compression")]
+    pub shear_compression_fraction: f32,
     /// Damping ratio of every spring (dimensionless, 0 = undamped, 1 = critical).
     pub damping_ratio: f32,
     /// Air drag per unit area, N·s/m³: force = -drag × area × (velocity - wind).
@@ -118,6 +153,8 @@ impl BurnMaterial {
         structural_stiffness: 40.0,
         shear_stiffness: 20.0,
         bend_stiffness: 4.0,
+        structural_compression_fraction: YARN_COMPRESSION,
+        shear_compression_fraction: BIAS_COMPRESSION,
         damping_ratio: 0.05,
         air_drag: 0.5,
         ignition_temperature: fahrenheit_to_celsius(482.0),
@@ -143,6 +180,8 @@ impl BurnMaterial {
         structural_stiffness: 12.0,
         shear_stiffness: 6.0,
         bend_stiffness: 0.6,
+        structural_compression_fraction: YARN_COMPRESSION,
+        shear_compression_fraction: BIAS_COMPRESSION,
         damping_ratio: 0.05,
         air_drag: 0.5,
         ignition_temperature: fahrenheit_to_celsius(289.0),
@@ -169,6 +208,8 @@ impl BurnMaterial {
         structural_stiffness: 80.0,
         shear_stiffness: 40.0,
         bend_stiffness: 12.0,
+        structural_compression_fraction: YARN_COMPRESSION,
+        shear_compression_fraction: BIAS_COMPRESSION,
         damping_ratio: 0.08,
         air_drag: 0.5,
         ignition_temperature: fahrenheit_to_celsius(410.0),
@@ -194,6 +235,8 @@ impl BurnMaterial {
         structural_stiffness: 60.0,
         shear_stiffness: 40.0,
         bend_stiffness: 15.0,
+        structural_compression_fraction: YARN_COMPRESSION,
+        shear_compression_fraction: BIAS_COMPRESSION,
         damping_ratio: 0.1,
         air_drag: 0.6,
         ignition_temperature: fahrenheit_to_celsius(451.0),
@@ -221,6 +264,8 @@ impl BurnMaterial {
         structural_stiffness: 30.0,
         shear_stiffness: 15.0,
         bend_stiffness: 2.0,
+        structural_compression_fraction: YARN_COMPRESSION,
+        shear_compression_fraction: BIAS_COMPRESSION,
         damping_ratio: 0.06,
         air_drag: 0.5,
         ignition_temperature: fahrenheit_to_celsius(410.0),
@@ -247,6 +292,26 @@ impl BurnMaterial {
         Self::PAPER,
         Self::COTTON,
     ];
+
+    /// This material with springs as stiff in compression as in tension (both compression
+    /// fractions 1): the paper's linear mass-spring model.
+    pub const fn with_linear_springs(self) -> Self {
+        Self {
+            structural_compression_fraction: 1.0,
+            shear_compression_fraction: 1.0,
+            ..self
+        }
+    }
+
+    /// The fraction of a spring kind's stiffness that resists compression (dimensionless):
+    /// the structural and shear fractions, 1 for bending springs.
+    pub fn compression(&self, kind: super::SpringKind) -> f32 {
+        match kind {
+            super::SpringKind::Structural => self.structural_compression_fraction,
+            super::SpringKind::Shear => self.shear_compression_fraction,
+            super::SpringKind::Bend => 1.0,
+        }
+    }
 
     /// The stiffness of a spring kind, N/m.
     pub fn stiffness(&self, kind: super::SpringKind) -> f32 {
@@ -334,6 +399,21 @@ impl BurnMaterial {
                 "components must be in [0, 1]",
             ));
         }
+        let fractions = [
+            (
+                "structural_compression_fraction",
+                self.structural_compression_fraction,
+            ),
+            (
+                "shear_compression_fraction",
+                self.shear_compression_fraction,
+            ),
+        ];
+        for (field, value) in fractions {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(MaterialError::new(field, value, "must be in [0, 1]"));
+            }
+        }
         if !(self.min_rest_fraction > 0.0 && self.min_rest_fraction <= 1.0) {
             return Err(MaterialError::new(
                 "min_rest_fraction",
@@ -413,6 +493,44 @@ mod tests {
         for material in BurnMaterial::PRESETS {
             material.validate().unwrap();
         }
+    }
+
+    #[test]
+    fn a_compression_fraction_outside_zero_to_one_is_rejected() {
+        for bad in [-0.1, 1.5, f32::NAN, f32::INFINITY] {
+            let structural = BurnMaterial {
+                structural_compression_fraction: bad,
+                ..BurnMaterial::COTTON
+            };
+            let shear = BurnMaterial {
+                shear_compression_fraction: bad,
+                ..BurnMaterial::COTTON
+            };
+            assert_eq!(
+                structural.validate().unwrap_err().field,
+                "structural_compression_fraction",
+                "{bad}"
+            );
+            assert_eq!(
+                shear.validate().unwrap_err().field,
+                "shear_compression_fraction",
+                "{bad}"
+            );
+        }
+        for good in [0.0, 0.01, 1.0] {
+            let material = BurnMaterial {
+                structural_compression_fraction: good,
+                shear_compression_fraction: good,
+                ..BurnMaterial::COTTON
+            };
+            material.validate().unwrap();
+        }
+        // Bending springs keep their full stiffness in compression: they resist bending by it.
+        use crate::sim::SpringKind;
+        let cotton = BurnMaterial::COTTON;
+        assert_eq!(cotton.compression(SpringKind::Bend), 1.0);
+        assert_eq!(cotton.compression(SpringKind::Shear), BIAS_COMPRESSION);
+        assert_eq!(cotton.compression(SpringKind::Structural), YARN_COMPRESSION);
     }
 
     #[test]

@@ -193,41 +193,115 @@ impl Springs {
             .filter(|&s| self.is_live(s, state))
             .map(|s| {
                 let length = positions[self.a[s] as usize].distance(positions[self.b[s] as usize]);
-                let extension = length - self.rest_length[s];
-                0.5 * coefficients.stiffness[self.kind[s] as usize] * extension * extension
+                coefficients
+                    .law(self.kind[s])
+                    .energy(length - self.rest_length[s])
             })
             .sum()
     }
 }
 
 /// Stiffness and damping coefficient per spring kind, indexed by `SpringKind as usize`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpringCoefficients {
     /// Stiffness, N/m.
     pub stiffness: [f32; 3],
     /// Damping coefficient, N·s/m.
     pub damping: [f32; 3],
+    /// Fraction of the stiffness that resists compression (dimensionless, in [0, 1]): a
+    /// spring shorter than its rest length pushes with `compression × stiffness`
+    /// ([`BurnMaterial::compression`]).
+    pub compression: [f32; 3],
+}
+
+impl Default for SpringCoefficients {
+    /// No stiffness, no damping, as stiff in compression as in tension.
+    fn default() -> Self {
+        Self {
+            stiffness: [0.0; 3],
+            damping: [0.0; 3],
+            compression: [1.0; 3],
+        }
+    }
 }
 
 impl SpringCoefficients {
     /// Coefficients from a material, with damping set so a spring between two particles of
     /// `particle_mass` has the material's damping ratio: `c = 2 ζ sqrt(k m / 2)`.
+    ///
+    /// The damping coefficient is the same whether the spring is stretched or compressed.
     pub fn from_material(material: &BurnMaterial, particle_mass: f32) -> Self {
         let mut coefficients = Self::default();
         for kind in SpringKind::ALL {
             let k = material.stiffness(kind);
             coefficients.stiffness[kind as usize] = k;
+            coefficients.compression[kind as usize] = material.compression(kind);
             coefficients.damping[kind as usize] =
                 2.0 * material.damping_ratio * (k * particle_mass * 0.5).sqrt();
         }
         coefficients
     }
+
+    /// The spring law of kind `kind`.
+    pub fn law(&self, kind: SpringKind) -> SpringLaw {
+        let k = kind as usize;
+        SpringLaw {
+            stiffness: self.stiffness[k],
+            compression: self.compression[k],
+            damping: self.damping[k],
+        }
+    }
+}
+
+/// One spring's law: Hooke's law, softer when compressed, with damping.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpringLaw {
+    /// Stiffness when stretched, N/m.
+    pub stiffness: f32,
+    /// Fraction of the stiffness that resists compression (dimensionless).
+    pub compression: f32,
+    /// Damping coefficient, N·s/m.
+    pub damping: f32,
+}
+
+impl SpringLaw {
+    /// A spring as stiff in compression as in tension.
+    pub fn symmetric(stiffness: f32, damping: f32) -> Self {
+        Self {
+            stiffness,
+            compression: 1.0,
+            damping,
+        }
+    }
+
+    /// The stiffness at `extension` (length minus rest length, m; negative when compressed),
+    /// N/m: `stiffness`, times `compression` when compressed.
+    #[inline]
+    pub fn stiffness_at(&self, extension: f32) -> f32 {
+        if extension < 0.0 {
+            self.stiffness * self.compression
+        } else {
+            self.stiffness
+        }
+    }
+
+    /// The elastic force's magnitude at `extension` (m), N: pulling when positive.
+    #[inline]
+    pub fn elastic(&self, extension: f32) -> f32 {
+        self.stiffness_at(extension) * extension
+    }
+
+    /// The elastic energy stored at `extension` (m), J.
+    pub fn energy(&self, extension: f32) -> f32 {
+        0.5 * self.stiffness_at(extension) * extension * extension
+    }
 }
 
 /// Force on particle `a` from a damped spring to particle `b`, N.
 ///
-/// `f_a = (k (|d| - L) + c (v_b - v_a)·n) n` with `d = x_b - x_a`, `n = d / |d|`. Coincident
-/// particles have no direction and get no force.
+/// `f_a = (k' (|d| - L) + c (v_b - v_a)·n) n` with `d = x_b - x_a`, `n = d / |d|` and `k'`
+/// the stiffness, times the law's `compression` when `|d| < L`. Coincident particles have no
+/// direction and get no force.
 #[inline]
 pub fn spring_force(
     x_a: Vec3,
@@ -235,8 +309,7 @@ pub fn spring_force(
     v_a: Vec3,
     v_b: Vec3,
     rest_length: f32,
-    stiffness: f32,
-    damping: f32,
+    law: SpringLaw,
 ) -> Vec3 {
     let delta = x_b - x_a;
     let length = delta.length();
@@ -244,7 +317,7 @@ pub fn spring_force(
         return Vec3::ZERO;
     }
     let direction = delta / length;
-    let magnitude = stiffness * (length - rest_length) + damping * (v_b - v_a).dot(direction);
+    let magnitude = law.elastic(length - rest_length) + law.damping * (v_b - v_a).dot(direction);
     direction * magnitude
 }
 
@@ -260,8 +333,7 @@ mod tests {
             Vec3::ZERO,
             Vec3::ZERO,
             1.5,
-            10.0,
-            0.0,
+            SpringLaw::symmetric(10.0, 0.0),
         );
         // Extension 0.5 m at 10 N/m: 5 N toward b.
         assert!((f - Vec3::new(5.0, 0.0, 0.0)).length() < 1e-6);
@@ -275,10 +347,36 @@ mod tests {
             Vec3::ZERO,
             Vec3::ZERO,
             1.0,
-            4.0,
-            0.0,
+            SpringLaw::symmetric(4.0, 0.0),
         );
         assert!((f - Vec3::new(0.0, -2.0, 0.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn a_compressed_spring_pushes_with_its_fraction_of_the_stiffness_a_stretched_one_pulls_with_all()
+     {
+        let law = SpringLaw {
+            stiffness: 40.0,
+            compression: 0.25,
+            damping: 0.0,
+        };
+        let at = |length: f32| {
+            spring_force(
+                Vec3::ZERO,
+                Vec3::new(length, 0.0, 0.0),
+                Vec3::ZERO,
+                Vec3::ZERO,
+                1.0,
+                law,
+            )
+        };
+        // 0.1 m short: 0.25 × 40 N/m × 0.1 m = 1 N pushing a away from b.
+        assert!((at(0.9) - Vec3::new(-1.0, 0.0, 0.0)).length() < 1e-5);
+        // 0.1 m long: the full 4 N pulling a towards b.
+        assert!((at(1.1) - Vec3::new(4.0, 0.0, 0.0)).length() < 1e-5);
+        // The stored energy is the force's integral on each side.
+        assert!((law.energy(-0.1) - 0.5 * 10.0 * 0.01).abs() < 1e-7);
+        assert!((law.energy(0.1) - 0.5 * 40.0 * 0.01).abs() < 1e-7);
     }
 
     #[test]
@@ -290,15 +388,21 @@ mod tests {
             Vec3::ZERO,
             Vec3::new(2.0, 5.0, 0.0),
             1.0,
-            100.0,
-            0.5,
+            SpringLaw::symmetric(100.0, 0.5),
         );
         assert!((f - Vec3::new(1.0, 0.0, 0.0)).length() < 1e-6);
     }
 
     #[test]
     fn coincident_particles_get_no_force() {
-        let f = spring_force(Vec3::ONE, Vec3::ONE, Vec3::ZERO, Vec3::X, 1.0, 100.0, 1.0);
+        let f = spring_force(
+            Vec3::ONE,
+            Vec3::ONE,
+            Vec3::ZERO,
+            Vec3::X,
+            1.0,
+            SpringLaw::symmetric(100.0, 1.0),
+        );
         assert_eq!(f, Vec3::ZERO);
     }
 

@@ -45,7 +45,8 @@ use glam::{Affine3A, Vec3};
 /// or more substeps a frame), each over every heated spring, stopping after one that
 /// corrects nothing. Four made a burning 64 x 64 cloth's dynamics half as dear again (0.72
 /// against 0.50 ms, `examples/stress.rs`) and held a shrunk block to a mean stretch of 1.16
-/// where two hold it to 1.21 (`tests/burning.rs`).
+/// where two hold it to 1.21 (`tests/burning.rs`, springs as stiff in compression as in
+/// tension; two hold it to 1.14 with the presets' softer compression).
 const XPBD_STRETCH_LIMIT_PASSES: u32 = 2;
 
 /// The world as one cloth's step sees it.

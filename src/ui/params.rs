@@ -37,7 +37,7 @@ impl<T> FieldRange<T> {
 }
 
 /// The material fields the panel edits.
-pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 16] = [
+pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 18] = [
     FieldRange {
         label: "mass",
         unit: "kg/m²",
@@ -65,6 +65,20 @@ pub const MATERIAL_FIELDS: [FieldRange<BurnMaterial>; 16] = [
         range: 0.01..=1000.0,
         logarithmic: true,
         field: |m| &mut m.bend_stiffness,
+    },
+    FieldRange {
+        label: "push k, structural",
+        unit: "× k",
+        range: 0.0..=1.0,
+        logarithmic: false,
+        field: |m| &mut m.structural_compression_fraction,
+    },
+    FieldRange {
+        label: "push k, shear",
+        unit: "× k",
+        range: 0.0..=1.0,
+        logarithmic: false,
+        field: |m| &mut m.shear_compression_fraction,
     },
     FieldRange {
         label: "damping ratio",

@@ -11,6 +11,21 @@
 //! factors `w/((1 + γ)(w_a + w_b) + α̃)` are computed once (they change only with masses, pins,
 //! burning and the step) and passed in as `ca`, `cb`; a dead spring has both zero.
 //!
+//! A compressed spring (`C < 0`) is `r` times as stiff (`r` the run's `compression`, see
+//! [`BurnMaterial::compression`](crate::sim::BurnMaterial::compression)),
+//! with the same damping coefficient: its compliance is `α̃ / r` and its damping factor
+//! `γ / r`, so
+//!
+//! `Δλ = −(r C + γ Ċh) / ((r + γ)(w_a + w_b) + α̃)`,
+//!
+//! which is the stretched projection's numerator with `r C` for `C`, over its denominator
+//! times `1 − (1 − r)(c_a + c_b)` (as `(w_a + w_b) = (c_a + c_b) × denominator`). That factor
+//! is at least `r` and shares the division by `|x_a − x_b|` the projection makes anyway, so
+//! a softer compression costs no array more and no division more (5 % on the spring pass,
+//! `examples/stress.rs`); with `r = 1` it is 1 and the projection is the stretched one to
+//! the bit. It is kept from 1e-6 up, so `r = 0` with no damping on a spring so stiff that
+//! `c_a + c_b` rounds to 1 moves nothing instead of dividing by zero.
+//!
 //! A particle's position is split into where it was at the start of the substep, `x`, and how
 //! far it has moved since, `u` (both f32): the prediction sets `u = h v`, corrections add to
 //! `u`, and the new velocity is `u / h`. Small corrections keep all their digits however small
@@ -21,19 +36,6 @@
 //! family of a grid, see [`lanes`](super::lanes)), written four elements at a time with no
 //! branch so the compiler turns it into SIMD instructions; and springs with ends by index
 //! (meshes).
-
-/// The multiplier `s` of one projection: `u_a += ca s e`, `u_b −= cb s e` with `e = p_a − p_b`.
-///
-/// `e`: current end-to-end vector; `r`: displacement of `a` minus displacement of `b` over the
-/// substep so far (`u_a − u_b`).
-#[inline(always)]
-fn multiplier(e: [f32; 3], r: [f32; 3], rest: f32, gamma: f32) -> f32 {
-    let length = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
-    let inverse = 1.0 / length.max(1e-9);
-    let violation = length - rest;
-    let rate = (e[0] * r[0] + e[1] * r[1] + e[2] * r[2]) * inverse;
-    -(violation + gamma * rate) * inverse
-}
 
 /// Particle arrays for one kernel call: positions at the start of the substep `x` and the
 /// displacements since `u` (three components each), all of one length.
@@ -49,6 +51,8 @@ pub(crate) struct RunData<'a> {
     pub ca: &'a [f32],
     pub cb: &'a [f32],
     pub gamma: f32,
+    /// The fraction of the stiffness that resists compression (1 for as stiff as in tension).
+    pub compression: f32,
 }
 
 impl<'a> RunData<'a> {
@@ -60,6 +64,7 @@ impl<'a> RunData<'a> {
             ca: &self.ca[..len],
             cb: &self.cb[..len],
             gamma: self.gamma,
+            compression: self.compression,
         }
     }
 }
@@ -104,6 +109,10 @@ fn zip<const N: usize>(a: Lanes<N>, b: Lanes<N>, f: impl Fn(f32, f32) -> f32) ->
 
 /// The multipliers `(ca s, cb s)` of `N` elements from their end-to-end vectors `e` and
 /// relative displacements `r`, per axis.
+///
+/// Written step by step over all `N` elements, not element by element: with the compressed
+/// spring's selects in it, the compiler vectorised the element-by-element form across the
+/// wrong values, and the spring pass cost 40 to 60 % more (`examples/stress.rs`, 64 x 64).
 #[inline(always)]
 fn several<const N: usize>(
     e: [Lanes<N>; 3],
@@ -116,16 +125,37 @@ fn several<const N: usize>(
         load::<N>(data.ca, k),
         load::<N>(data.cb, k),
     );
-    let mut sa = [0.0; N];
-    let mut sb = [0.0; N];
+    let give = 1.0 - data.compression;
+    let mut squared = [0.0; N];
+    let mut dot = [0.0; N];
     for l in 0..N {
-        let el = [e[0][l], e[1][l], e[2][l]];
-        let rl = [r[0][l], r[1][l], r[2][l]];
-        let s = multiplier(el, rl, rest[l], data.gamma);
-        sa[l] = ca[l] * s;
-        sb[l] = cb[l] * s;
+        squared[l] = e[0][l] * e[0][l] + e[1][l] * e[1][l] + e[2][l] * e[2][l];
+        dot[l] = e[0][l] * r[0][l] + e[1][l] * r[1][l] + e[2][l] * r[2][l];
     }
-    (sa, sb)
+    // One division for both `1 / |e|` and the compressed spring's `1 / (|e| (1 − (1 − r)
+    // (ca + cb)))` (see the module's notes).
+    let mut length = [0.0; N];
+    let mut inverse = [0.0; N];
+    let mut inverse_softer = [0.0; N];
+    for l in 0..N {
+        length[l] = squared[l].sqrt();
+        let denominator = (1.0 - give * (ca[l] + cb[l])).max(1e-6);
+        inverse_softer[l] = 1.0 / (length[l].max(1e-9) * denominator);
+        inverse[l] = inverse_softer[l] * denominator;
+    }
+    let mut s = [0.0; N];
+    for l in 0..N {
+        let violation = length[l] - rest[l];
+        let compressed = violation < 0.0;
+        let scale = if compressed { data.compression } else { 1.0 };
+        let last = if compressed {
+            inverse_softer[l]
+        } else {
+            inverse[l]
+        };
+        s[l] = -(scale * violation + data.gamma * (dot[l] * inverse[l])) * last;
+    }
+    (zip(ca, s, |c, s| c * s), zip(cb, s, |c, s| c * s))
 }
 
 /// A lane whose two ends lie in separate arrays: element `k` joins `(xa, ua)[k]` to
@@ -439,25 +469,65 @@ pub(crate) fn project_indexed(arrays: &mut Arrays, a: &[u32], b: &[u32], data: R
 mod tests {
     use super::*;
 
-    /// The textbook projection of one spring, written out with vectors.
+    /// The textbook projection of one spring, written out with vectors: compliance `alpha`
+    /// and damping factor `gamma` when stretched, `alpha / r` and `gamma / r` when compressed
+    /// (stiffness `r k`, the same damping coefficient).
     fn reference(
         pa: glam::Vec3,
         pb: glam::Vec3,
         moved: glam::Vec3,
         rest: f32,
-        (wa, wb, alpha, gamma): (f32, f32, f32, f32),
+        (wa, wb, alpha, gamma, r): (f32, f32, f32, f32, f32),
     ) -> (glam::Vec3, glam::Vec3) {
         let delta = pa - pb;
         let n = delta.normalize();
         let c = delta.length() - rest;
+        let (alpha, gamma) = if c < 0.0 {
+            (alpha / r, gamma / r)
+        } else {
+            (alpha, gamma)
+        };
         let dl = (-c - gamma * n.dot(moved)) / ((1.0 + gamma) * (wa + wb) + alpha);
         (wa * dl * n, -wb * dl * n)
+    }
+
+    #[test]
+    fn a_spring_with_no_push_and_no_damping_moves_nothing_when_compressed_however_stiff() {
+        // `ca + cb` is 1: infinitely stiff, undamped; compression fraction 0. Spring 0 is
+        // compressed, spring 1 stretched.
+        let x: [Vec<f32>; 3] = [vec![0.0, 0.8, 0.9, 2.2], vec![0.0; 4], vec![0.0; 4]];
+        let mut u: [Vec<f32>; 3] = [vec![0.0; 4], vec![0.0; 4], vec![0.0; 4]];
+        let (rest, ca, cb) = ([1.0f32, 1.0], [0.5f32, 0.5], [0.5f32, 0.5]);
+        let data = RunData {
+            rest: &rest,
+            ca: &ca,
+            cb: &cb,
+            gamma: 0.0,
+            compression: 0.0,
+        };
+        let [u0, u1, u2] = &mut u;
+        let mut arrays = Arrays {
+            x: [&x[0], &x[1], &x[2]],
+            u: [u0, u1, u2],
+        };
+        project_indexed(&mut arrays, &[0, 2], &[1, 3], data);
+        assert_eq!(
+            u[0][..2],
+            [0.0, 0.0],
+            "the compressed spring pushes with nothing"
+        );
+        // The stretched one (1.3 m, rest 1 m) is pulled back to its length, half each way.
+        assert!(
+            (u[0][2] - 0.15).abs() < 1e-6 && (u[0][3] + 0.15).abs() < 1e-6,
+            "{u:?}"
+        );
     }
 
     #[test]
     fn every_loop_shape_matches_the_textbook_projection() {
         // Six particles in a row, each already moved a little this substep (`u`); springs
         // (0,3), (1,4), (2,5) over disjoint stretches, both ways round, and through indices.
+        // The last is compressed, and a fifth as stiff so.
         let xs = [0.0f32, 0.11, 0.19, 0.33, 0.38, 0.52];
         let x: [Vec<f32>; 3] = [
             xs.to_vec(),
@@ -469,7 +539,7 @@ mod tests {
             vec![0.0; 6],
             vec![0.0005; 6],
         ];
-        let (wa, wb, alpha, gamma) = (2.0f32, 0.5f32, 0.3f32, 0.2f32);
+        let (wa, wb, alpha, gamma, r) = (2.0f32, 0.5f32, 0.3f32, 0.2f32, 0.2f32);
         let den = (1.0 + gamma) * (wa + wb) + alpha;
         let rest = [0.3f32, 0.25, 0.35];
         let (ca, cb) = ([wa / den; 3], [wb / den; 3]);
@@ -478,13 +548,19 @@ mod tests {
             ca: &ca,
             cb: &cb,
             gamma,
+            compression: r,
         };
         let at = |a: &[Vec<f32>; 3], i: usize| glam::Vec3::new(a[0][i], a[1][i], a[2][i]);
         let check = |u: &[Vec<f32>; 3], pairs: [(usize, usize); 3]| {
             for (k, (a, b)) in pairs.into_iter().enumerate() {
                 let moved = at(&u0, a) - at(&u0, b);
                 let (pa, pb) = (at(&x, a) + at(&u0, a), at(&x, b) + at(&u0, b));
-                let (da, db) = reference(pa, pb, moved, rest[k], (wa, wb, alpha, gamma));
+                let (da, db) = reference(pa, pb, moved, rest[k], (wa, wb, alpha, gamma, r));
+                assert_eq!(
+                    k == 2,
+                    (pa - pb).length() < rest[k],
+                    "the last alone compressed"
+                );
                 let (ua, ub) = (at(u, a) - at(&u0, a), at(u, b) - at(&u0, b));
                 assert!((ua - da).length() < 1e-6, "{pairs:?} {k}: {ua} vs {da}");
                 assert!((ub - db).length() < 1e-6, "{pairs:?} {k}: {ub} vs {db}");
@@ -558,6 +634,7 @@ mod tests {
                 ca: &ca,
                 cb: &cb,
                 gamma: 0.15,
+                compression: 1.0,
             };
             let run = |f: &dyn Fn(&mut Arrays)| {
                 let mut u = u0.clone();
@@ -609,6 +686,7 @@ mod tests {
                 ca: &ca[q],
                 cb: &cb[q],
                 gamma: 0.05 * q as f32,
+                compression: 0.3,
             });
             let xs: [[&[f32]; 3]; 4] = core::array::from_fn(|q| x[q].each_ref().map(|a| &a[..]));
             let mut in_turn = u0.clone();
@@ -674,6 +752,7 @@ mod tests {
             ca: &ca,
             cb: &cb,
             gamma: 0.07,
+            compression: 0.3,
         };
         let run = |f: &dyn Fn([&[f32]; 3], &mut [&mut [f32]; 3])| {
             let mut u = u0.clone();

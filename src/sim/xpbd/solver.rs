@@ -148,6 +148,8 @@ pub struct XpbdSolver {
     seen_rest: Vec<f32>,
     /// Damping factor `γ = c / (k h)` per spring kind.
     gamma: [f32; 3],
+    /// Fraction of the stiffness that resists compression, per spring kind (in [0, 1]).
+    compression: [f32; 3],
     factors_for: Option<FactorKey>,
     /// Particles whose inverse mass changed since the factors were computed.
     dirty: Vec<u32>,
@@ -590,6 +592,10 @@ impl XpbdSolver {
                 (self.ca[e], self.cb[e]) = factors.of(spring_of(e));
             }
             self.gamma = factors.gamma;
+            // A NaN or out-of-range fraction (hand-made coefficients) is taken as 1 or clamped.
+            self.compression = coefficients
+                .compression
+                .map(|c| if c.is_nan() { 1.0 } else { c.clamp(0.0, 1.0) });
             self.factors_for = Some(key);
         } else {
             for &i in &dirty {
@@ -742,6 +748,7 @@ impl XpbdSolver {
             ca: &self.ca,
             cb: &self.cb,
             gamma: self.gamma,
+            compression: self.compression,
         };
         let parts = self.pass_sizes.first().copied().unwrap_or(1);
         // The slots of a per-slot item: a grid's band's rows in each quarter grid (the rows
@@ -917,6 +924,8 @@ struct Elements<'a> {
     ca: &'a [f32],
     cb: &'a [f32],
     gamma: [f32; 3],
+    /// Per spring kind, the fraction of the stiffness that resists compression.
+    compression: [f32; 3],
 }
 
 /// One band's share of the particle arrays: every quarter grid's rows in the band's reach,
@@ -966,6 +975,7 @@ fn project_band<const SIDE_BY_SIDE: bool>(mut view: BandView, lanes: &[Lane], el
             ca: &elements.ca[range.clone()],
             cb: &elements.cb[range],
             gamma: elements.gamma[lane.kind as usize],
+            compression: elements.compression[lane.kind as usize],
         }
     };
     let mut next = 0;
@@ -1146,6 +1156,7 @@ fn project_all_indexed(
             ca: &elements.ca[start..end],
             cb: &elements.cb[start..end],
             gamma: elements.gamma[kind as usize],
+            compression: elements.compression[kind as usize],
         };
         let (a, b) = (&springs.a[start..end], &springs.b[start..end]);
         project_indexed(&mut arrays, a, b, data);
@@ -1994,6 +2005,7 @@ mod tests {
                 ca: &ca,
                 cb: &cb,
                 gamma: [0.01, 0.02, 0.03],
+                compression: [0.2, 0.5, 1.0],
             };
             let x: [[Vec<f32>; 4]; 3] = core::array::from_fn(|axis| {
                 core::array::from_fn(|q| {
