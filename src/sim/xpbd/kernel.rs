@@ -21,8 +21,9 @@
 //! which is the stretched projection's numerator with `r C` for `C`, over its denominator
 //! times `1 − (1 − r)(c_a + c_b)` (as `(w_a + w_b) = (c_a + c_b) × denominator`). That factor
 //! is at least `r` and shares the division by `|x_a − x_b|` the projection makes anyway, so
-//! a softer compression costs no array more and no division more (5 % on the spring pass,
-//! `examples/stress.rs`); with `r = 1` it is 1 and the projection is the stretched one to
+//! a softer compression costs no array more and no division more (the dynamics phase 5 to
+//! 11 % dearer in `examples/stress.rs -- --default-only`, eight alternated runs); with
+//! `r = 1` it is 1 and the projection is the stretched one to
 //! the bit. It is kept from 1e-6 up, so `r = 0` with no damping on a spring so stiff that
 //! `c_a + c_b` rounds to 1 moves nothing instead of dividing by zero.
 //!
