@@ -25,7 +25,10 @@
 //! 11 % dearer in `examples/stress.rs -- --default-only`, eight alternated runs); with
 //! `r = 1` it is 1 and the projection is the stretched one to
 //! the bit. It is kept from 1e-6 up, so `r = 0` with no damping on a spring so stiff that
-//! `c_a + c_b` rounds to 1 moves nothing instead of dividing by zero.
+//! `c_a + c_b` rounds to 1 moves nothing instead of dividing by zero. Runs of springs with
+//! `r = 1` (bending springs, and every spring of a material with linear springs) take a
+//! plain form of the loop without those steps, with the same bits (the dynamics of the
+//! burning cloths in `examples/stress.rs` about 3 % cheaper).
 //!
 //! A particle's position is split into where it was at the start of the substep, `x`, and how
 //! far it has moved since, `u` (both f32): the prediction sets `u = h v`, corrections add to
@@ -68,6 +71,15 @@ impl<'a> RunData<'a> {
             compression: self.compression,
         }
     }
+}
+
+/// Whether a run's springs give to a push (their compression fraction is not 1): those take
+/// the softer compression's form of the projection, the others the plain one, which gives
+/// the same bits for them with less work (bending springs, and every spring of a material
+/// with linear springs).
+#[inline(always)]
+fn is_soft(data: &RunData) -> bool {
+    data.compression != 1.0
 }
 
 /// `N` lanes of `f32`, which the compiler keeps in one SIMD register (4: SSE, 8: AVX).
@@ -115,7 +127,7 @@ fn zip<const N: usize>(a: Lanes<N>, b: Lanes<N>, f: impl Fn(f32, f32) -> f32) ->
 /// spring's selects in it, the compiler vectorised the element-by-element form across the
 /// wrong values, and the spring pass cost 40 to 60 % more (`examples/stress.rs`, 64 x 64).
 #[inline(always)]
-fn several<const N: usize>(
+fn several<const N: usize, const SOFT: bool>(
     e: [Lanes<N>; 3],
     r: [Lanes<N>; 3],
     data: &RunData,
@@ -126,13 +138,25 @@ fn several<const N: usize>(
         load::<N>(data.ca, k),
         load::<N>(data.cb, k),
     );
-    let give = 1.0 - data.compression;
     let mut squared = [0.0; N];
     let mut dot = [0.0; N];
     for l in 0..N {
         squared[l] = e[0][l] * e[0][l] + e[1][l] * e[1][l] + e[2][l] * e[2][l];
         dot[l] = e[0][l] * r[0][l] + e[1][l] * r[1][l] + e[2][l] * r[2][l];
     }
+    let mut s = [0.0; N];
+    if !SOFT {
+        // As stiff in compression as in tension: what the lines below give with `r = 1`, to
+        // the bit (their denominator is then exactly 1).
+        for l in 0..N {
+            let length = squared[l].sqrt();
+            let inverse = 1.0 / length.max(1e-9);
+            let violation = length - rest[l];
+            s[l] = -(violation + data.gamma * (dot[l] * inverse)) * inverse;
+        }
+        return (zip(ca, s, |c, s| c * s), zip(cb, s, |c, s| c * s));
+    }
+    let give = 1.0 - data.compression;
     // One division for both `1 / |e|` and the compressed spring's `1 / (|e| (1 − (1 − r)
     // (ca + cb)))` (see the module's notes).
     let mut length = [0.0; N];
@@ -144,7 +168,6 @@ fn several<const N: usize>(
         inverse_softer[l] = 1.0 / (length[l].max(1e-9) * denominator);
         inverse[l] = inverse_softer[l] * denominator;
     }
-    let mut s = [0.0; N];
     for l in 0..N {
         let violation = length[l] - rest[l];
         let compressed = violation < 0.0;
@@ -168,16 +191,21 @@ pub(crate) fn project_split(
     ub: &mut [&mut [f32]; 3],
     data: RunData,
 ) {
+    let soft = is_soft(&data);
     #[cfg(target_arch = "x86_64")]
     if wide::available() {
-        return wide::project_split(x, ua, ub, data);
+        return wide::project_split(x, ua, ub, data, soft);
     }
-    split_lane::<4>(x, ua, ub, data);
+    if soft {
+        split_lane::<4, true>(x, ua, ub, data);
+    } else {
+        split_lane::<4, false>(x, ua, ub, data);
+    }
 }
 
 /// [`project_split`], `N` elements at a time.
 #[inline(always)]
-fn split_lane<const N: usize>(
+fn split_lane<const N: usize, const SOFT: bool>(
     (xa, xb): ([&[f32]; 3], [&[f32]; 3]),
     ua: &mut [&mut [f32]; 3],
     ub: &mut [&mut [f32]; 3],
@@ -193,22 +221,22 @@ fn split_lane<const N: usize>(
     let mut ub = [&mut ub0[..len], &mut ub1[..len], &mut ub2[..len]];
     let chunks = len / N;
     for chunk in 0..chunks {
-        split_chunk::<N>(x, (&mut ua, &mut ub), &data, N * chunk);
+        split_chunk::<N, SOFT>(x, (&mut ua, &mut ub), &data, N * chunk);
     }
     for k in N * chunks..len {
-        split_chunk::<1>(x, (&mut ua, &mut ub), &data, k);
+        split_chunk::<1, SOFT>(x, (&mut ua, &mut ub), &data, k);
     }
 }
 
 /// The `N` elements from `k` of a lane whose ends lie in separate arrays.
 #[inline(always)]
-fn split_chunk<const N: usize>(
+fn split_chunk<const N: usize, const SOFT: bool>(
     (xa, xb): ([&[f32]; 3], [&[f32]; 3]),
     (ua, ub): (&mut [&mut [f32]; 3], &mut [&mut [f32]; 3]),
     data: &RunData,
     k: usize,
 ) {
-    let (moved_a, moved_b) = chunk_step::<N>(
+    let (moved_a, moved_b) = chunk_step::<N, SOFT>(
         load_axes(&xa, k),
         load_axes(&xb, k),
         load_axes(ua, k),
@@ -230,11 +258,16 @@ pub(crate) fn project_shared(
     b: usize,
     data: RunData,
 ) {
+    let soft = is_soft(&data);
     #[cfg(target_arch = "x86_64")]
     if a.abs_diff(b) >= 8 && wide::available() {
-        return wide::project_shared(x, u, a, b, data);
+        return wide::project_shared(x, u, a, b, data, soft);
     }
-    shared_lane::<4>(x, u, a, b, data);
+    if soft {
+        shared_lane::<4, true>(x, u, a, b, data);
+    } else {
+        shared_lane::<4, false>(x, u, a, b, data);
+    }
 }
 
 /// Lanes whose ends lie in the same arrays, each on arrays of its own (a grid's quarter
@@ -249,18 +282,23 @@ pub(crate) fn project_shared_together<const L: usize>(
     (a, b): (usize, usize),
     data: [RunData; L],
 ) {
+    let soft = data.iter().any(is_soft);
     #[cfg(target_arch = "x86_64")]
     if a.abs_diff(b) >= 8 && wide::available() {
-        return wide::project_shared_together(x, u, (a, b), data);
+        return wide::project_shared_together(x, u, (a, b), data, soft);
     }
-    shared_lanes::<4, L>(x, u, (a, b), data);
+    if soft {
+        shared_lanes::<4, L, true>(x, u, (a, b), data);
+    } else {
+        shared_lanes::<4, L, false>(x, u, (a, b), data);
+    }
 }
 
 /// [`project_shared`], `N` elements at a time when the ends are at least `N` apart. (The
 /// same as [`shared_lanes`] with one lane, but a loop of its own: through that one the
 /// compiler's code took 5 % more instructions.)
 #[inline(always)]
-fn shared_lane<const N: usize>(
+fn shared_lane<const N: usize, const SOFT: bool>(
     x: [&[f32]; 3],
     u: &mut [&mut [f32]; 3],
     a: usize,
@@ -277,10 +315,10 @@ fn shared_lane<const N: usize>(
     let chunks = if a.abs_diff(b) >= N { len / N } else { 0 };
     for chunk in 0..chunks {
         let k = N * chunk;
-        shared_chunk::<N>(x, &mut u, (a + k, b + k), &data, k);
+        shared_chunk::<N, SOFT>(x, &mut u, (a + k, b + k), &data, k);
     }
     for k in N * chunks..len {
-        shared_chunk::<1>(x, &mut u, (a + k, b + k), &data, k);
+        shared_chunk::<1, SOFT>(x, &mut u, (a + k, b + k), &data, k);
     }
 }
 
@@ -288,7 +326,7 @@ fn shared_lane<const N: usize>(
 /// every lane's first chunk, then every lane's second, and so on, then each lane's last
 /// elements one at a time.
 #[inline(always)]
-fn shared_lanes<const N: usize, const L: usize>(
+fn shared_lanes<const N: usize, const L: usize, const SOFT: bool>(
     x: [[&[f32]; 3]; L],
     u: &mut [[&mut [f32]; 3]; L],
     (a, b): (usize, usize),
@@ -305,12 +343,12 @@ fn shared_lanes<const N: usize, const L: usize>(
     for chunk in 0..chunks {
         let k = N * chunk;
         for lane in 0..L {
-            shared_chunk::<N>(x[lane], &mut u[lane], (a + k, b + k), &data[lane], k);
+            shared_chunk::<N, SOFT>(x[lane], &mut u[lane], (a + k, b + k), &data[lane], k);
         }
     }
     for lane in 0..L {
         for k in N * chunks..len {
-            shared_chunk::<1>(x[lane], &mut u[lane], (a + k, b + k), &data[lane], k);
+            shared_chunk::<1, SOFT>(x[lane], &mut u[lane], (a + k, b + k), &data[lane], k);
         }
     }
 }
@@ -318,14 +356,14 @@ fn shared_lanes<const N: usize, const L: usize>(
 /// The `N` elements from `k` of a lane whose ends lie in the same arrays, ends at `ia` and
 /// `ib` (at least `N` apart).
 #[inline(always)]
-fn shared_chunk<const N: usize>(
+fn shared_chunk<const N: usize, const SOFT: bool>(
     x: [&[f32]; 3],
     u: &mut [&mut [f32]; 3],
     (ia, ib): (usize, usize),
     data: &RunData,
     k: usize,
 ) {
-    let (moved_a, moved_b) = chunk_step::<N>(
+    let (moved_a, moved_b) = chunk_step::<N, SOFT>(
         load_axes(&x, ia),
         load_axes(&x, ib),
         load_axes(u, ia),
@@ -340,7 +378,7 @@ fn shared_chunk<const N: usize>(
 /// start of the substep, `xa` and `xb`, and their motions so far, `pa` and `pb` (per axis),
 /// the motions after the projection.
 #[inline(always)]
-fn chunk_step<const N: usize>(
+fn chunk_step<const N: usize, const SOFT: bool>(
     xa: [Lanes<N>; 3],
     xb: [Lanes<N>; 3],
     pa: [Lanes<N>; 3],
@@ -359,7 +397,7 @@ fn chunk_step<const N: usize>(
         zip(zip(xa[1], xb[1], |p, q| p - q), r[1], |p, q| p + q),
         zip(zip(xa[2], xb[2], |p, q| p - q), r[2], |p, q| p + q),
     ];
-    let (sa, sb) = several(e, r, data, k);
+    let (sa, sb) = several::<N, SOFT>(e, r, data, k);
     (
         [
             zip(pa[0], zip(sa, e[0], |p, q| p * q), |p, q| p + q),
@@ -384,15 +422,23 @@ mod wide {
 
     pub(super) use crate::sim::simd::avx_available as available;
 
-    /// [`super::project_split`] eight elements at a time. Only called when [`available`].
+    /// [`super::project_split`] eight elements at a time, the softer compression's form when
+    /// `soft`. Only called when [`available`].
     pub(super) fn project_split(
         x: ([&[f32]; 3], [&[f32]; 3]),
         ua: &mut [&mut [f32]; 3],
         ub: &mut [&mut [f32]; 3],
         data: RunData,
+        soft: bool,
     ) {
         // SAFETY: called only after `available()` found AVX on this CPU.
-        unsafe { split_avx(x, ua, ub, data) }
+        unsafe {
+            if soft {
+                split_avx::<true>(x, ua, ub, data)
+            } else {
+                split_avx::<false>(x, ua, ub, data)
+            }
+        }
     }
 
     /// [`super::project_shared`] eight elements at a time, for ends at least eight apart.
@@ -403,9 +449,16 @@ mod wide {
         a: usize,
         b: usize,
         data: RunData,
+        soft: bool,
     ) {
         // SAFETY: called only after `available()` found AVX on this CPU.
-        unsafe { shared_avx(x, u, a, b, data) }
+        unsafe {
+            if soft {
+                shared_avx::<true>(x, u, a, b, data)
+            } else {
+                shared_avx::<false>(x, u, a, b, data)
+            }
+        }
     }
 
     /// [`super::project_shared_together`] eight elements at a time, for ends at least eight
@@ -415,34 +468,47 @@ mod wide {
         u: &mut [[&mut [f32]; 3]; L],
         ends: (usize, usize),
         data: [RunData; L],
+        soft: bool,
     ) {
         // SAFETY: called only after `available()` found AVX on this CPU.
-        unsafe { shared_together_avx(x, u, ends, data) }
+        unsafe {
+            if soft {
+                shared_together_avx::<L, true>(x, u, ends, data)
+            } else {
+                shared_together_avx::<L, false>(x, u, ends, data)
+            }
+        }
     }
 
     #[target_feature(enable = "avx")]
-    fn shared_together_avx<const L: usize>(
+    fn shared_together_avx<const L: usize, const SOFT: bool>(
         x: [[&[f32]; 3]; L],
         u: &mut [[&mut [f32]; 3]; L],
         ends: (usize, usize),
         data: [RunData; L],
     ) {
-        shared_lanes::<8, L>(x, u, ends, data);
+        shared_lanes::<8, L, SOFT>(x, u, ends, data);
     }
 
     #[target_feature(enable = "avx")]
-    fn split_avx(
+    fn split_avx<const SOFT: bool>(
         x: ([&[f32]; 3], [&[f32]; 3]),
         ua: &mut [&mut [f32]; 3],
         ub: &mut [&mut [f32]; 3],
         data: RunData,
     ) {
-        split_lane::<8>(x, ua, ub, data);
+        split_lane::<8, SOFT>(x, ua, ub, data);
     }
 
     #[target_feature(enable = "avx")]
-    fn shared_avx(x: [&[f32]; 3], u: &mut [&mut [f32]; 3], a: usize, b: usize, data: RunData) {
-        shared_lane::<8>(x, u, a, b, data);
+    fn shared_avx<const SOFT: bool>(
+        x: [&[f32]; 3],
+        u: &mut [&mut [f32]; 3],
+        a: usize,
+        b: usize,
+        data: RunData,
+    ) {
+        shared_lane::<8, SOFT>(x, u, a, b, data);
     }
 }
 
@@ -454,7 +520,7 @@ pub(crate) fn project_indexed(arrays: &mut Arrays, a: &[u32], b: &[u32], data: R
     for k in 0..n {
         let (ia, ib) = (a[k] as usize, b[k] as usize);
         // One element, as a lane's last ones: `a` is moved, then `b`, each from what it was.
-        let (moved_a, moved_b) = chunk_step::<1>(
+        let (moved_a, moved_b) = chunk_step::<1, true>(
             load_axes(&arrays.x, ia),
             load_axes(&arrays.x, ib),
             load_axes(&arrays.u, ia),
@@ -726,15 +792,16 @@ mod tests {
         }
     }
 
-    #[test]
-    #[cfg(target_arch = "x86_64")]
-    fn eight_wide_lanes_equal_four_wide_to_the_bit() {
-        if !wide::available() {
-            eprintln!("no AVX on this CPU: the eight-wide loops are not used");
-            return;
-        }
-        // 37 elements: four chunks of eight and a tail of five; values spread over several
-        // orders of magnitude so any difference in rounding would show.
+    /// Lanes of 37 elements (four chunks of eight and a tail of five) on 80 particles, values
+    /// spread over several orders of magnitude so any difference in rounding would show:
+    /// `check` gets the motions a reference projection and a tested one leave, for a shared
+    /// lane at several gaps and for a split lane.
+    fn compare_lanes(
+        compression: f32,
+        reference: (SharedFn, SplitFn),
+        tested: (SharedFn, SplitFn),
+        check: impl Fn([Vec<u32>; 3], [Vec<u32>; 3], &str),
+    ) {
         let n = 80;
         let value = |i: usize, scale: f32| scale * ((i * 7919 % 101) as f32 - 50.0) / 37.0;
         let x: [Vec<f32>; 3] = [
@@ -745,16 +812,15 @@ mod tests {
         let u0: [Vec<f32>; 3] =
             core::array::from_fn(|axis| (0..n).map(|i| value(i + axis, 1e-5)).collect());
         let len = 37;
-        let rest: Vec<f32> = (0..len).map(|k| 0.4 + value(k, 1e-3)).collect();
+        // Rest lengths within 10 % of the springs' lengths (0.05 m a slot apart), so some are
+        // stretched and some compressed.
+        let rest_for = |gap: usize| -> Vec<f32> {
+            (0..len)
+                .map(|k| 0.05 * gap as f32 * (1.0 + value(k, 0.07)))
+                .collect()
+        };
         let ca: Vec<f32> = (0..len).map(|k| 0.3 + value(k + 1, 1e-2)).collect();
         let cb: Vec<f32> = (0..len).map(|k| 0.2 + value(k + 2, 1e-2)).collect();
-        let data = RunData {
-            rest: &rest,
-            ca: &ca,
-            cb: &cb,
-            gamma: 0.07,
-            compression: 0.3,
-        };
         let run = |f: &dyn Fn([&[f32]; 3], &mut [&mut [f32]; 3])| {
             let mut u = u0.clone();
             let [u_x, u_y, u_z] = &mut u;
@@ -763,23 +829,91 @@ mod tests {
         };
         let bits = |u: [Vec<f32>; 3]| u.map(|a| a.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
         for gap in [8, 11, 27] {
-            let four = run(&|x, u| shared_lane::<4>(x, u, 0, gap, data));
-            let eight = run(&|x, u| wide::project_shared(x, u, 0, gap, data));
-            assert_eq!(bits(four), bits(eight), "shared lane, gap {gap}");
-        }
-        let split =
-            |f: &dyn Fn(([&[f32]; 3], [&[f32]; 3]), &mut [&mut [f32]; 3], &mut [&mut [f32]; 3])| {
-                run(&|x, u| {
-                    let [u0, u1, u2] = u;
-                    let (u0a, u0b) = u0.split_at_mut(n / 2);
-                    let (u1a, u1b) = u1.split_at_mut(n / 2);
-                    let (u2a, u2b) = u2.split_at_mut(n / 2);
-                    let ends = (x, x.map(|axis| &axis[n / 2..]));
-                    f(ends, &mut [u0a, u1a, u2a], &mut [u0b, u1b, u2b]);
-                })
+            let rest = rest_for(gap);
+            let data = RunData {
+                rest: &rest,
+                ca: &ca,
+                cb: &cb,
+                gamma: 0.07,
+                compression,
             };
-        let four = split(&|x, ua, ub| split_lane::<4>(x, ua, ub, data));
-        let eight = split(&|x, ua, ub| wide::project_split(x, ua, ub, data));
-        assert_eq!(bits(four), bits(eight), "split lane");
+            let expected = run(&|x, u| reference.0(x, u, gap, data));
+            let got = run(&|x, u| tested.0(x, u, gap, data));
+            check(
+                bits(expected),
+                bits(got),
+                &format!("shared lane, gap {gap}"),
+            );
+        }
+        let rest = rest_for(n / 2);
+        let data = RunData {
+            rest: &rest,
+            ca: &ca,
+            cb: &cb,
+            gamma: 0.07,
+            compression,
+        };
+        let split = |f: SplitFn| {
+            run(&|x, u| {
+                let [u0, u1, u2] = u;
+                let (u0a, u0b) = u0.split_at_mut(n / 2);
+                let (u1a, u1b) = u1.split_at_mut(n / 2);
+                let (u2a, u2b) = u2.split_at_mut(n / 2);
+                let ends = (x, x.map(|axis| &axis[n / 2..]));
+                f(ends, &mut [u0a, u1a, u2a], &mut [u0b, u1b, u2b], data);
+            })
+        };
+        check(
+            bits(split(reference.1)),
+            bits(split(tested.1)),
+            "split lane",
+        );
+    }
+
+    type SharedFn = fn([&[f32]; 3], &mut [&mut [f32]; 3], usize, RunData);
+    type SplitFn =
+        fn(([&[f32]; 3], [&[f32]; 3]), &mut [&mut [f32]; 3], &mut [&mut [f32]; 3], RunData);
+
+    /// The softer compression's form, four elements at a time, on any CPU.
+    const SOFT_FOUR: (SharedFn, SplitFn) = (
+        |x, u, gap, data| shared_lane::<4, true>(x, u, 0, gap, data),
+        |x, ua, ub, data| split_lane::<4, true>(x, ua, ub, data),
+    );
+
+    /// The plain form, four elements at a time, on any CPU.
+    const PLAIN_FOUR: (SharedFn, SplitFn) = (
+        |x, u, gap, data| shared_lane::<4, false>(x, u, 0, gap, data),
+        |x, ua, ub, data| split_lane::<4, false>(x, ua, ub, data),
+    );
+
+    #[test]
+    fn springs_as_stiff_in_compression_take_the_plain_form_with_the_same_bits() {
+        compare_lanes(1.0, SOFT_FOUR, PLAIN_FOUR, |expected, got, lane| {
+            assert_eq!(expected, got, "{lane}");
+        });
+        // And the softer form is not the plain one when the springs do give.
+        compare_lanes(0.3, SOFT_FOUR, PLAIN_FOUR, |expected, got, lane| {
+            assert_ne!(expected, got, "{lane}: no spring was compressed");
+        });
+    }
+
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn eight_wide_lanes_equal_four_wide_to_the_bit() {
+        if !wide::available() {
+            eprintln!("no AVX on this CPU: the eight-wide loops are not used");
+            return;
+        }
+        // The dispatching entry points, so with `r = 1` the plain eight-wide form is checked
+        // against the general four-wide one.
+        let eight: (SharedFn, SplitFn) = (
+            |x, u, gap, data| project_shared(x, u, 0, gap, data),
+            |x, ua, ub, data| project_split(x, ua, ub, data),
+        );
+        for compression in [0.3, 1.0] {
+            compare_lanes(compression, SOFT_FOUR, eight, |expected, got, lane| {
+                assert_eq!(expected, got, "{lane}, compression {compression}");
+            });
+        }
     }
 }
