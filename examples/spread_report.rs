@@ -10,8 +10,12 @@
 //! simulated time by default (denim's physical downward front, 1 mm/s, needs 400 s to reach
 //! 0.4 m; a shorter limit reports slow fronts as "never"), at spacings of 50, 25, 12.5 and
 //! 5 mm; then cotton on meshes of irregular triangles at 25 and 12.5 mm beside the grid.
+//!
+//! Then how far a heated patch crumples a hanging cloth at the same spacings, at the default
+//! substep rate (360 Hz) and at eight times it (`report::crumple`), written to
+//! `OUT_DIR/crumple.md`.
 
-use bevy_burning_cloth::report::{self, spread};
+use bevy_burning_cloth::report::{self, crumple, spread};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -33,5 +37,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         spread::mesh_markdown(&meshes)
     );
     report::print_and_write(&table, &dir, "spread.md", started)?;
+    let started = Instant::now();
+    let default_rate = bevy_burning_cloth::sim::SolverSettings::default().substep_rate;
+    let crumpling = crumple::study(&spacings, &[default_rate, 8.0 * default_rate])?;
+    report::print_and_write(&crumple::markdown(&crumpling), &dir, "crumple.md", started)?;
     Ok(())
 }

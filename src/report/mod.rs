@@ -6,8 +6,10 @@
 //! | [`stability`] | every integrator against stiff and extreme cases, raw and guarded |
 //! | [`accuracy`] | error against run time of every integrator on reference problems |
 //! | [`spread`] | fire spread speed by direction, material, heat model and grid spacing |
+//! | [`crumple`] | how far a heated patch pulls the cloth in, by grid spacing and substep rate |
 
 pub mod accuracy;
+pub mod crumple;
 pub mod spread;
 pub mod stability;
 
