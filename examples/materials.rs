@@ -85,14 +85,16 @@ fn spawn_swatch(
         Name::new(material.name),
         ClothBuilder::grid(COLUMNS, ROWS, SPACING).pin_top_every(4),
         Transform::from_xyz(x_of(index), RAIL_HEIGHT, 0.0),
+        material,
     ));
-    // The preset's file (the cloth is built once it loads), or the preset itself.
+    // The preset's file: the cloth is built once it loads, with the file's material. The
+    // preset beside it is the fallback: a file that cannot be found (a binary run from
+    // outside the crate, without `BEVY_ASSET_ROOT`) is logged, and the swatch keeps its
+    // preset instead of every swatch becoming the default cloth.
     #[cfg(feature = "material_assets")]
     swatch.insert(bevy_burning_cloth::material_file::BurnMaterialFile(
         assets.load(format!("materials/{}.burnmat.ron", material.name)),
     ));
-    #[cfg(not(feature = "material_assets"))]
-    swatch.insert(material);
 }
 
 fn bottom_centre(cloth: &GlobalTransform) -> Vec3 {

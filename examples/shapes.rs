@@ -22,8 +22,10 @@ fn main() -> AppExit {
             DefaultPlugins.set(common::window("bevy_burning_cloth: shapes")),
             BurningClothPlugins::default(),
             common::ExamplePlugin {
-                camera_target: Vec3::new(0.0, 1.05, 0.0),
-                camera_distance: 3.6,
+                // With the control panel on the right, the scene sits in the window's left
+                // part (as in `materials`): the denim on the right is not hidden behind it.
+                camera_target: Vec3::new(if cfg!(feature = "egui") { 0.6 } else { 0.0 }, 1.05, 0.0),
+                camera_distance: if cfg!(feature = "egui") { 4.0 } else { 3.6 },
             },
         ))
         .add_systems(Startup, (spawn_rod, spawn_shapes))
