@@ -830,13 +830,7 @@ mod tests {
         let bits = |u: [Vec<f32>; 3]| u.map(|a| a.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
         for gap in [8, 11, 27] {
             let rest = rest_for(gap);
-            let data = RunData {
-                rest: &rest,
-                ca: &ca,
-                cb: &cb,
-                gamma: 0.07,
-                compression,
-            };
+            let data = test_data(&rest, &ca, &cb, compression);
             let expected = run(&|x, u| reference.0(x, u, gap, data));
             let got = run(&|x, u| tested.0(x, u, gap, data));
             check(
@@ -846,13 +840,7 @@ mod tests {
             );
         }
         let rest = rest_for(n / 2);
-        let data = RunData {
-            rest: &rest,
-            ca: &ca,
-            cb: &cb,
-            gamma: 0.07,
-            compression,
-        };
+        let data = test_data(&rest, &ca, &cb, compression);
         let split = |f: SplitFn| {
             run(&|x, u| {
                 let [u0, u1, u2] = u;
@@ -868,6 +856,22 @@ mod tests {
             bits(split(tested.1)),
             "split lane",
         );
+    }
+
+    /// A run's data with the damping factor `compare_lanes` uses.
+    fn test_data<'a>(
+        rest: &'a [f32],
+        ca: &'a [f32],
+        cb: &'a [f32],
+        compression: f32,
+    ) -> RunData<'a> {
+        RunData {
+            rest,
+            ca,
+            cb,
+            gamma: 0.07,
+            compression,
+        }
     }
 
     type SharedFn = fn([&[f32]; 3], &mut [&mut [f32]; 3], usize, RunData);
