@@ -56,7 +56,11 @@ pub struct CrumpleRow {
 /// Runs one case (see the module's notes).
 pub fn heated_block(case: CrumpleCase) -> Result<CrumpleRow, ClothError> {
     let material = BurnMaterial::COTTON;
-    let cells = (SIDE / case.spacing).round().max(3.0) as u32;
+    if !(case.spacing.is_finite() && case.spacing > 0.0) {
+        return Err(ClothError::InvalidSpacing(case.spacing));
+    }
+    // Capped so `cells + 1` cannot overflow; a grid too large is then the builder's error.
+    let cells = (SIDE / case.spacing).round().clamp(3.0, 1e9) as u32;
     let n = cells + 1;
     let mut sim = ClothSim::new(
         &ClothBuilder::grid(n, n, case.spacing).pin_top_corners(),
@@ -187,5 +191,23 @@ mod tests {
             hot.cloth_width < cold.cloth_width - 0.1,
             "{hot:?} against {cold:?}"
         );
+    }
+
+    #[test]
+    fn a_bad_spacing_or_rate_is_an_error() {
+        for spacing in [0.0, -0.01, f32::NAN, f32::INFINITY, 1e-9] {
+            let case = CrumpleCase {
+                spacing,
+                substep_rate: 360.0,
+                heated: true,
+            };
+            assert!(heated_block(case).is_err(), "spacing {spacing}");
+        }
+        let case = CrumpleCase {
+            spacing: 0.05,
+            substep_rate: f32::NAN,
+            heated: true,
+        };
+        assert!(heated_block(case).is_err());
     }
 }
