@@ -7,6 +7,7 @@ use bevy_burning_cloth::sim::{
     BurnMaterial, ClothBuilder, ClothSettings, ClothSim, HeatModel, Integrator, PhysicalHeat,
     ProvotSettings,
 };
+use bevy_burning_cloth::ui::params::SUBSTEP_RATE;
 use bevy_burning_cloth::ui::{MATERIAL_FIELDS, PanelValues};
 
 const EXTREMES: [f32; 10] = [
@@ -52,6 +53,7 @@ fn extreme_panel_edits_mid_burn_are_clamped_or_refused_and_the_cloth_stays_finit
         edit.environment.gravity.y = if round % 2 == 0 { x } else { -x };
         edit.solver.integrator = Integrator::ALL[round % Integrator::ALL.len()];
         edit.solver.substeps = [None, Some(0), Some(u32::MAX), Some(3)][round % 4];
+        edit.solver.substep_rate = x;
         edit.solver.provot = (round % 5 != 0).then(|| ProvotSettings {
             max_stretch: x,
             passes: [0, 1, u32::MAX][round % 3],
@@ -71,6 +73,11 @@ fn extreme_panel_edits_mid_burn_are_clamped_or_refused_and_the_cloth_stays_finit
                     assert!(field.range.contains(&v), "{} = {v}", field.label);
                 }
                 assert!(values.environment.wind.is_finite());
+                assert!(
+                    SUBSTEP_RATE.contains(&values.solver.substep_rate),
+                    "substep rate {}",
+                    values.solver.substep_rate
+                );
                 in_use = values;
                 applied += 1;
             }

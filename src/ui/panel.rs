@@ -3,7 +3,7 @@
 use super::ClothPanel;
 use super::params::{
     GRAVITY, MATERIAL_FIELDS, PHYSICAL_HEAT, PROVOT_MAX_STRETCH, PROVOT_PASSES, PanelValues,
-    SUBSTEPS, WIND,
+    SUBSTEP_RATE, SUBSTEPS, WIND,
 };
 use crate::plugin::{
     ClothEnvironment, ClothInUse, ClothParticles, ClothSimulationControl, ClothSolver,
@@ -540,8 +540,17 @@ fn solver_widgets(ui: &mut egui::Ui, solver: &mut crate::sim::SolverSettings) {
         if ui.checkbox(&mut automatic, "automatic substeps").changed() {
             solver.substeps = if automatic { None } else { Some(8) };
         }
-        if let Some(substeps) = &mut solver.substeps {
-            ui.add(egui::Slider::new(substeps, SUBSTEPS).text("substeps"));
+        match &mut solver.substeps {
+            Some(substeps) => {
+                ui.add(egui::Slider::new(substeps, SUBSTEPS).text("substeps"));
+            }
+            None => {
+                ui.add(
+                    egui::Slider::new(&mut solver.substep_rate, SUBSTEP_RATE)
+                        .logarithmic(true)
+                        .text("substep rate (Hz)"),
+                );
+            }
         }
         let mut provot = solver.provot.is_some();
         if ui.checkbox(&mut provot, "Provot correction").changed() {

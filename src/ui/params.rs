@@ -173,6 +173,11 @@ pub const PROVOT_MAX_STRETCH: RangeInclusive<f32> = 0.01..=1.0;
 pub const PROVOT_PASSES: RangeInclusive<u32> = 1..=16;
 /// Range of fixed substeps.
 pub const SUBSTEPS: RangeInclusive<u32> = 1..=64;
+/// Range of [`SolverSettings::substep_rate`](crate::sim::SolverSettings::substep_rate), Hz:
+/// the automatic substeps' rate, from one substep a 1/60 s frame to the 64-substep cap. A
+/// fine cloth crumples as a coarse one does only at a higher rate (README, Crumpling by
+/// spacing), at a proportional cost.
+pub const SUBSTEP_RATE: RangeInclusive<f32> = 60.0..=3840.0;
 /// Range of each wind component, m/s.
 pub const WIND: RangeInclusive<f32> = -20.0..=20.0;
 /// Range of each gravity component, m/s².
@@ -238,6 +243,11 @@ impl PanelValues {
         if let Some(substeps) = &mut self.solver.substeps {
             *substeps = (*substeps).clamp(*SUBSTEPS.start(), *SUBSTEPS.end());
         }
+        self.solver.substep_rate = clamp_or(
+            self.solver.substep_rate,
+            &SUBSTEP_RATE,
+            old.solver.substep_rate,
+        );
         if let HeatModel::Physical(heat) = &mut self.solver.heat_model {
             let fallback =
                 physical_parts(old.solver.heat_model).unwrap_or(PhysicalHeat::GAME.to_array());
