@@ -130,10 +130,12 @@ fn a_nan_edit_keeps_the_value_in_use() {
     let mut edit = in_use;
     edit.material.structural_stiffness = f32::NAN;
     edit.material.areal_density = 1e9;
+    edit.solver.substep_rate = f32::NAN;
     let values = edit.apply(&in_use).unwrap();
     assert_eq!(
         values.material.structural_stiffness,
         BurnMaterial::SILK.structural_stiffness
     );
     assert_eq!(values.material.areal_density, 2.0);
+    assert_eq!(values.solver.substep_rate, in_use.solver.substep_rate);
 }
