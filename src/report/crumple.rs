@@ -32,6 +32,10 @@ pub struct CrumpleCase {
     pub spacing: f32,
     /// XPBD substeps per second of simulated time, Hz.
     pub substep_rate: f32,
+    /// The spacing the rate is meant for, m, scaling it as `reference / spacing`
+    /// ([`SolverSettings::substep_rate_spacing`](crate::sim::SolverSettings::substep_rate_spacing));
+    /// `None`: the same rate at every spacing.
+    pub rate_spacing: Option<f32>,
     /// Whether the block is heated (`false`: the same cloth left cold, for comparison).
     pub heated: bool,
 }
@@ -43,6 +47,8 @@ pub struct CrumpleRow {
     pub case: CrumpleCase,
     /// Particles per side.
     pub particles_per_side: u32,
+    /// XPBD substeps a 1/60 s frame.
+    pub substeps: u32,
     /// The block's width along its middle row, as a fraction of its built width.
     pub block_width: f32,
     /// The block's height along its middle column, as a fraction of its built height.
@@ -67,7 +73,10 @@ pub fn heated_block(case: CrumpleCase) -> Result<CrumpleRow, ClothError> {
         material,
         Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)),
     )?;
-    sim.update_settings(|s| s.solver.substep_rate = case.substep_rate)?;
+    sim.update_settings(|s| {
+        s.solver.substep_rate = case.substep_rate;
+        s.solver.substep_rate_spacing = case.rate_spacing;
+    })?;
     let grid = sim.topology.grid.ok_or(ClothError::EmptyGrid {
         columns: n,
         rows: n,
@@ -91,6 +100,7 @@ pub fn heated_block(case: CrumpleCase) -> Result<CrumpleRow, ClothError> {
         }
         sim.step(FRAME);
     }
+    let substeps = sim.plan(FRAME).substeps;
     let position = &sim.particles.position;
     let at = |column: u32, row: u32| position[grid.index(column, row)];
     let built = |from: u32, to: u32| (to - from) as f32 * case.spacing;
@@ -110,6 +120,7 @@ pub fn heated_block(case: CrumpleCase) -> Result<CrumpleRow, ClothError> {
     Ok(CrumpleRow {
         case,
         particles_per_side: n,
+        substeps,
         block_width: at(high, middle).distance(at(low, middle)) / built(low, high),
         block_height: at(middle, high).distance(at(middle, low)) / built(low, high),
         cloth_width: at(cells, middle).distance(at(0, middle)) / built(0, cells),
@@ -117,15 +128,19 @@ pub fn heated_block(case: CrumpleCase) -> Result<CrumpleRow, ClothError> {
     })
 }
 
-/// The heated block at every spacing, at each substep rate (rate by rate, spacings in the
-/// order given).
-pub fn study(spacings: &[f32], rates: &[f32]) -> Result<Vec<CrumpleRow>, ClothError> {
+/// The heated block at every spacing, at each substep rate, each with the spacing it is
+/// meant for or `None` (rate by rate, spacings in the order given).
+pub fn study(
+    spacings: &[f32],
+    rates: &[(f32, Option<f32>)],
+) -> Result<Vec<CrumpleRow>, ClothError> {
     rates
         .iter()
-        .flat_map(|&substep_rate| {
+        .flat_map(|&(substep_rate, rate_spacing)| {
             spacings.iter().map(move |&spacing| CrumpleCase {
                 spacing,
                 substep_rate,
+                rate_spacing,
                 heated: true,
             })
         })
@@ -141,15 +156,23 @@ pub fn markdown(rows: &[CrumpleRow]) -> String {
          half their length). Widths and heights as fractions of their built length; stretch: \
          mean length / rest length of the block's structural springs.\n\n"
     );
-    out.push_str("| substep rate Hz | spacing mm | particles | block width | block height | cloth width | stretch in block |\n");
-    out.push_str("|---|---|---|---|---|---|---|\n");
+    out.push_str("| substep rate Hz | spacing mm | particles | substeps a frame | block width | block height | cloth width | stretch in block |\n");
+    out.push_str("|---|---|---|---|---|---|---|---|\n");
     for row in rows {
+        let rate = match row.case.rate_spacing {
+            Some(reference) => format!(
+                "{:.0} x ({:.0} mm / spacing)",
+                row.case.substep_rate,
+                reference * 1000.0
+            ),
+            None => format!("{:.0}", row.case.substep_rate),
+        };
         out.push_str(&format!(
-            "| {:.0} | {:.1} | {} x {} | {:.2} | {:.2} | {:.2} | {:.2} |\n",
-            row.case.substep_rate,
+            "| {rate} | {:.1} | {} x {} | {} | {:.2} | {:.2} | {:.2} | {:.2} |\n",
             row.case.spacing * 1000.0,
             row.particles_per_side,
             row.particles_per_side,
+            row.substeps,
             row.block_width,
             row.block_height,
             row.cloth_width,
@@ -168,6 +191,7 @@ mod tests {
         let case = CrumpleCase {
             spacing: 0.05,
             substep_rate: 360.0,
+            rate_spacing: None,
             heated: false,
         };
         let cold = heated_block(case).unwrap();
@@ -194,11 +218,45 @@ mod tests {
     }
 
     #[test]
+    fn with_the_rate_scaled_by_spacing_a_block_crumples_alike_at_two_spacings() {
+        // The shrink is per kelvin and second, so a block held hot pulls in the same at any
+        // spacing once one projection holds a spring as firmly on either grid.
+        let at = |spacing| {
+            heated_block(CrumpleCase {
+                spacing,
+                substep_rate: 360.0,
+                rate_spacing: Some(0.025),
+                heated: true,
+            })
+            .unwrap()
+        };
+        let (coarse, fine) = (at(0.025), at(0.0125));
+        assert_eq!((coarse.substeps, fine.substeps), (6, 12));
+        for (a, b, name, tolerance) in [
+            (coarse.block_width, fine.block_width, "block width", 0.03),
+            (coarse.block_height, fine.block_height, "block height", 0.04),
+            (coarse.cloth_width, fine.cloth_width, "cloth width", 0.04),
+            (coarse.block_stretch, fine.block_stretch, "stretch", 0.03),
+        ] {
+            assert!(
+                (a - b).abs() < tolerance,
+                "{name}: {a} at 25 mm, {b} at 12.5 mm"
+            );
+        }
+        // And it did crumple: the springs are near their shrunk length, half the built one.
+        assert!(
+            coarse.block_width < 0.6 && fine.block_width < 0.6,
+            "{coarse:?} {fine:?}"
+        );
+    }
+
+    #[test]
     fn a_bad_spacing_or_rate_is_an_error() {
         for spacing in [0.0, -0.01, f32::NAN, f32::INFINITY, 1e-9] {
             let case = CrumpleCase {
                 spacing,
                 substep_rate: 360.0,
+                rate_spacing: None,
                 heated: true,
             };
             assert!(heated_block(case).is_err(), "spacing {spacing}");
@@ -206,6 +264,7 @@ mod tests {
         let case = CrumpleCase {
             spacing: 0.05,
             substep_rate: f32::NAN,
+            rate_spacing: None,
             heated: true,
         };
         assert!(heated_block(case).is_err());

@@ -243,7 +243,7 @@ impl ClothSim {
     /// How a fixed step of `dt` seconds would be run: integrator and substeps.
     pub fn plan(&mut self, dt: f32) -> StepPlan {
         let stable = self.stable_step();
-        self.settings.solver.plan(dt, stable)
+        self.settings.solver.plan(dt, stable, self.topology.spacing)
     }
 
     /// Advances the cloth by one fixed step of `dt` seconds through every phase, on this

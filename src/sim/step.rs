@@ -341,7 +341,7 @@ impl ClothMut<'_> {
     fn dynamics(&mut self, inputs: &StepInputs) -> (StepPlan, Option<ProvotReport>, u32) {
         let solver = &self.settings.solver;
         let stable = self.workspace.stable_step(self.particles, self.springs);
-        let plan = solver.plan(inputs.dt, stable);
+        let plan = solver.plan(inputs.dt, stable, self.topology.spacing);
         let substeps = plan.substeps;
         let h = inputs.dt / substeps as f32;
         let workspace = &mut *self.workspace;
