@@ -8,6 +8,8 @@
 //! `-- --default-only`: the size table for the default solver alone (a minute, for iterating);
 //! `-- --physical-heat-only`: the same under `HeatModel::PHYSICAL` (its flame front);
 //! `--substep-rate 720`: XPBD's substeps per second in the size table (360 by default);
+//! `--substep-rate-spacing 25`: that rate meant for 25 mm, scaled by each cloth's spacing
+//! (`SolverSettings::substep_rate_spacing`);
 //! `--sizes 32 64`: only those sizes in the size table, or plume grids with `--plume-only`
 //! (for profiling one);
 //! `-- --many-only`: the twenty-cloth scene alone; `-- --wake-only`: what handing a task to
@@ -122,6 +124,7 @@ fn run(size: u32, integrator: Integrator, heat_model: HeatModel, pool: &TaskPool
         if let Some(rate) = substep_rate() {
             s.solver.substep_rate = rate;
         }
+        s.solver.substep_rate_spacing = substep_rate_spacing();
     })
     .expect("valid settings");
     // Hang for 2 s, then measure the stretch and set it alight.
@@ -218,10 +221,20 @@ fn median(mut runs: Vec<Run>) -> Run {
 /// XPBD's substeps per second from `--substep-rate` (the size table's runs), when given:
 /// what more substeps cost, and buy in stretch.
 fn substep_rate() -> Option<f32> {
+    flag_value("--substep-rate")
+}
+
+/// The spacing the substep rate is meant for, m, from `--substep-rate-spacing MM` (the size
+/// table's runs), when given: what a rate scaled by the spacing costs, and buys.
+fn substep_rate_spacing() -> Option<f32> {
+    flag_value("--substep-rate-spacing").map(|mm| mm / 1000.0)
+}
+
+/// The number after `flag` on the command line, if both are there.
+fn flag_value(flag: &str) -> Option<f32> {
     let args: Vec<String> = std::env::args().collect();
-    let at = args.iter().position(|a| a == "--substep-rate")?;
-    let rate = args.get(at + 1)?.parse().ok()?;
-    Some(rate)
+    let at = args.iter().position(|a| a == flag)?;
+    args.get(at + 1)?.parse().ok()
 }
 
 /// The cloth sizes of the size table: 32, 64, 128 and 256, or those after `--sizes` (for
