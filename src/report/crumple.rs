@@ -106,17 +106,16 @@ pub fn heated_block(case: CrumpleCase) -> Result<CrumpleRow, ClothError> {
     let built = |from: u32, to: u32| (to - from) as f32 * case.spacing;
     let springs = &sim.springs;
     let in_block = |i: u32| inside(i % n, i / n);
-    let stretches: Vec<f32> = (0..springs.len())
-        .filter(|&s| {
-            springs.kind[s] == SpringKind::Structural
-                && in_block(springs.a[s])
-                && in_block(springs.b[s])
-        })
-        .map(|s| {
-            let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
-            position[a].distance(position[b]) / springs.rest_length[s]
-        })
-        .collect();
+    let (mut sum, mut count) = (0.0, 0);
+    let in_block_structural = |s: usize| {
+        springs.kind[s] == SpringKind::Structural
+            && in_block(springs.a[s])
+            && in_block(springs.b[s])
+    };
+    for stretch in springs.stretches(position, &sim.particles.state, in_block_structural) {
+        sum += stretch;
+        count += 1;
+    }
     Ok(CrumpleRow {
         case,
         particles_per_side: n,
@@ -124,7 +123,7 @@ pub fn heated_block(case: CrumpleCase) -> Result<CrumpleRow, ClothError> {
         block_width: at(high, middle).distance(at(low, middle)) / built(low, high),
         block_height: at(middle, high).distance(at(middle, low)) / built(low, high),
         cloth_width: at(cells, middle).distance(at(0, middle)) / built(0, cells),
-        block_stretch: stretches.iter().sum::<f32>() / stretches.len().max(1) as f32,
+        block_stretch: sum / count.max(1) as f32,
     })
 }
 
