@@ -21,12 +21,12 @@ use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
 use crate::sim::forces::ForceParams;
 use crate::sim::guard::GuardSettings;
-use crate::sim::parallel::{Claims, Disjoint, for_each_part, parts_for, piece, pieces, run_phases};
-use crate::sim::particles::Particles;
+use crate::sim::parallel::{Claims, Disjoint, parts_for, piece, run_phases};
+use crate::sim::particles::{BurnState, Particles};
 use crate::sim::springs::{SpringCoefficients, SpringKind, Springs};
 use crate::sim::topology::GridShape;
 use bevy::tasks::TaskPool;
-use core::sync::atomic::{AtomicU32, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 /// Rows per band of a grid stepped on the pool's threads: bands two apart are independent,
 /// and the threads take a band at a time.
@@ -236,7 +236,9 @@ impl SlotArrays {
         self.particle.resize(slots, PHANTOM);
     }
 
-    /// The arrays cut into `parts` consecutive runs of slots.
+    /// The arrays cut into `parts` consecutive runs of slots (for tests: the solver hands
+    /// its passes runs through [`SharedSlots`]).
+    #[cfg(test)]
     fn parts(&mut self, parts: usize) -> impl Iterator<Item = SlotChunk<'_>> {
         let size = self.len().div_ceil(parts.max(1)).max(1);
         let SlotArrays {
@@ -419,7 +421,7 @@ impl XpbdSolver {
         self.prepare(particles, springs, grid);
         let frame = h * substeps as f32;
         let pool = around.pool.filter(|_| self.slots.len() >= PARALLEL_SLOTS);
-        let pins = self.read(particles, springs, around.params, frame, pool);
+        let (pins, constant) = self.scan(particles, springs, around.params);
         let bend_interval = bend_interval(substeps);
         self.update_factors(
             particles,
@@ -456,10 +458,23 @@ impl XpbdSolver {
         let shared = pool.is_some_and(|pool| pool.thread_num() > 0);
         let rounds = around.stretch_limit.map_or(0, |limit| limit.passes);
         let refresh = [refresh, tethered && pins.moving];
-        self.plan_passes(substeps, bend_interval, rounds, shared, refresh);
-        self.run_passes(springs, &step, rounds, pool);
+        let write_parts = parts_for(pool, particles.len(), 2048);
+        self.plan_passes(
+            substeps,
+            bend_interval,
+            rounds,
+            shared,
+            refresh,
+            write_parts,
+        );
+        let moved = Moved {
+            constant,
+            frame,
+            guard: around.guard,
+        };
+        let repaired = self.run_passes(particles, springs, &step, (rounds, moved), pool);
         self.targets_valid = tethered && !pins.moving;
-        (self.write(particles, &around.guard, pool), pins.changed)
+        (repaired, pins.changed)
     }
 
     /// This frame's springs under the stretch limit.
@@ -480,16 +495,18 @@ impl XpbdSolver {
         }
     }
 
-    /// Copies the particles in (and a grid's rest lengths into lane order), in parts over
-    /// the pool's threads. Says whether a pin came or went, and whether any pin moves.
-    fn read(
+    /// What the frame's copy of the particles into the slots needs to know, and a grid's
+    /// rest lengths in lane order: each particle's inverse mass (burnt ones zero; those that
+    /// changed listed as dirty), whether a pin came or went, whether any pin moves, whether
+    /// anything moves freely, and the free particles' outside acceleration but for their
+    /// external forces (gravity and wind drag). The copy itself is the first pass's
+    /// ([`Self::run_passes`]).
+    fn scan(
         &mut self,
         particles: &Particles,
         springs: &Springs,
         params: &ForceParams,
-        frame: f32,
-        pool: Option<&TaskPool>,
-    ) -> PinNews {
+    ) -> (PinNews, glam::Vec3) {
         let mut news = PinNews::default();
         let n = particles.len();
         let (state, inv_mass) = (&particles.state[..n], &particles.inv_mass[..n]);
@@ -519,20 +536,16 @@ impl XpbdSolver {
         for i in whole..n {
             read_one(particles, i, &mut self.w, &mut self.dirty, &mut news);
         }
-        if !news.free {
-            return news;
-        }
         let drag = params.drag_per_mass.max(0.0);
         let constant = params.gravity + drag * params.wind;
+        if !news.free {
+            return (news, constant);
+        }
         let uniform = no_force(&particles.external_force).then_some(constant.to_array());
-        let w = &self.w;
-        let parts = parts_for(pool, self.slots.len(), 2048);
-        for_each_part(pool, self.slots.parts(parts), |mut chunk| {
-            chunk.read(particles, w, constant, frame, uniform.is_none())
-        });
         // Padding back to rest at the origin: a NaN that reached it in a blown-up frame
         // through a phantom element (whose factors are zero, and zero times NaN is NaN)
         // would otherwise stay, and come back through the same element every frame after.
+        // (The copy in leaves padding alone.)
         let SlotArrays {
             x, v, acceleration, ..
         } = &mut self.slots;
@@ -549,7 +562,7 @@ impl XpbdSolver {
                 &mut self.rest,
             );
         }
-        PinNews { uniform, ..news }
+        (PinNews { uniform, ..news }, constant)
     }
 
     /// Recomputes the spring factors: all of them when the step, the bending springs'
@@ -661,8 +674,9 @@ impl XpbdSolver {
     /// `bend_interval`), the stretch limit on the springs in the grid's bands
     /// (even bands, then odd ones), the limit on the rest and the pins' positions when needed
     /// (one item), and the per-slot pass (one item on one thread; shared between threads, a
-    /// grid's band's rows or runs of slots). `refresh`: whether the tether targets must be
-    /// looked up again in the first substep, and in the later ones.
+    /// grid's band's rows or runs of slots); then the copy back, in `write_parts` runs of
+    /// particles. The first prediction copies its slots in first. `refresh`: whether the
+    /// tether targets must be looked up again in the first substep, and in the later ones.
     fn plan_passes(
         &mut self,
         substeps: u32,
@@ -670,6 +684,7 @@ impl XpbdSolver {
         rounds: u32,
         shared: bool,
         refresh: [bool; 2],
+        write_parts: usize,
     ) {
         let limiting = !self.limited.is_empty();
         let rest = self.limited.has_rest();
@@ -722,6 +737,7 @@ impl XpbdSolver {
             self.passes
                 .push((Pass::Finish { last, refresh }, slot_parts));
         }
+        self.passes.push((Pass::Write, write_parts));
         self.pass_sizes.clear();
         self.pass_sizes
             .extend(self.passes.iter().map(|&(_, items)| items));
@@ -729,16 +745,41 @@ impl XpbdSolver {
     }
 
     /// Runs the planned passes, on `pool`'s threads when one is given (see [`run_phases`]):
-    /// items of one pass touch disjoint slots, and each pass starts when the one before it
-    /// has finished, so the result is the same on any number of threads.
+    /// items of one pass touch disjoint slots (or particles), and each pass starts when the
+    /// one before it has finished, so the result is the same on any number of threads. The
+    /// copy in, the substeps and the copy back are one scope: a pool thread woken once joins
+    /// them all (with a scope each, it was woken three times a frame, and each time the
+    /// calling thread worked alone until it came). Returns how many particles the guard put
+    /// back.
     #[allow(unsafe_code)]
     fn run_passes(
         &mut self,
+        particles: &mut Particles,
         springs: &Springs,
         step: &Substep,
-        rounds: u32,
+        (rounds, moved): (u32, Moved),
         pool: Option<&TaskPool>,
-    ) {
+    ) -> u32 {
+        let n = particles.len();
+        let Particles {
+            position,
+            velocity,
+            state,
+            external_force,
+            ..
+        } = particles;
+        let (position, velocity) = (
+            Disjoint::new(&mut position[..n]),
+            Disjoint::new(&mut velocity[..n]),
+        );
+        let (state, force) = (&state[..n], &external_force[..n]);
+        let (w, slot) = (&self.w, &self.slot);
+        let accelerations = step.uniform.is_none();
+        let check_guard = moved.guard.enabled;
+        let max_speed_squared = moved.guard.max_speed * moved.guard.max_speed;
+        let blown = AtomicBool::new(false);
+        let repaired = AtomicU32::new(0);
+        let write_parts = self.pass_sizes.last().copied().unwrap_or(1);
         let shared = SharedSlots::new(&mut self.slots);
         let pin_positions = Disjoint::new(&mut self.pin_positions);
         let buckets = self.limited.share();
@@ -770,9 +811,24 @@ impl XpbdSolver {
         run_phases(pool, &self.pass_sizes, claims, |phase, item| {
             match passes[phase].0 {
                 Pass::Predict => {
+                    // SAFETY: nothing writes the particles' positions and velocities before
+                    // the last pass.
+                    let (position, velocity) =
+                        unsafe { (position.read(0..n), velocity.read(0..n)) };
+                    let incoming = Incoming {
+                        state,
+                        position,
+                        velocity,
+                        force,
+                        w,
+                        constant: moved.constant,
+                        frame: moved.frame,
+                        accelerations,
+                    };
                     for run in runs(item) {
                         // SAFETY: the items of a pass take disjoint runs of slots.
                         let mut slots = unsafe { shared.chunk(run) };
+                        slots.read(&incoming);
                         slots.run(&[], step, Phase::PredictOnly);
                     }
                 }
@@ -856,66 +912,87 @@ impl XpbdSolver {
                         // SAFETY: the items of a pass take disjoint runs of slots.
                         let mut slots = unsafe { shared.chunk(run) };
                         slots.run(pins, &step, phase);
+                        if last && check_guard && slots.any_blown(max_speed_squared) {
+                            blown.store(true, Ordering::Relaxed);
+                        }
                     }
                 }
-            }
-        });
-    }
-
-    /// Copies the free particles back, putting back any that went non-finite or ran away
-    /// (position as at the start, at rest), in parts over the pool's threads. Pins keep
-    /// their target; burnt particles do not move. Returns how many were put back.
-    fn write(
-        &self,
-        particles: &mut Particles,
-        guard: &GuardSettings,
-        pool: Option<&TaskPool>,
-    ) -> u32 {
-        let repaired = AtomicU32::new(0);
-        let max_speed_squared = guard.max_speed * guard.max_speed;
-        let SlotArrays { x, v, free, .. } = &self.slots;
-        // One pass in slot order, which vectorises, says whether the guard has anything to
-        // put back; almost every frame it has not, and the copy then tests nothing per
-        // particle.
-        let check = guard.enabled && any_blown(x, v, free, max_speed_squared);
-        let n = particles.len();
-        let parts = parts_for(pool, n, 2048);
-        let size = n.div_ceil(parts);
-        let work = pieces(&mut particles.position, parts)
-            .zip(pieces(&mut particles.velocity, parts))
-            .zip(self.slot.chunks(size));
-        for_each_part(pool, work, |((position, velocity), slot)| {
-            // Every slot array cut to one length here, where the loop is (a length read back
-            // from the closure's captures is not known to be the same), so one test per
-            // particle checks all its reads.
-            let slots = free.len();
-            let free = &free[..slots];
-            let (x0, x1, x2) = (&x[0][..slots], &x[1][..slots], &x[2][..slots]);
-            let (v0, v1, v2) = (&v[0][..slots], &v[1][..slots], &v[2][..slots]);
-            let mut put_back = 0;
-            for ((p, vel), &s) in position.iter_mut().zip(velocity.iter_mut()).zip(slot) {
-                let s = s as usize;
-                if s >= slots || free[s] == 0.0 {
-                    continue;
-                }
-                let new_position = glam::Vec3::new(x0[s], x1[s], x2[s]);
-                let new_velocity = glam::Vec3::new(v0[s], v1[s], v2[s]);
-                if check
-                    && !(new_position.is_finite()
-                        && new_velocity.is_finite()
-                        && new_velocity.length_squared() <= max_speed_squared)
-                {
-                    *vel = glam::Vec3::ZERO;
-                    put_back += 1;
-                } else {
-                    *p = new_position;
-                    *vel = new_velocity;
+                Pass::Write => {
+                    let run = piece(n, write_parts, item);
+                    // SAFETY: the items take disjoint runs of particles; no other pass
+                    // reads the particles' positions and velocities meanwhile, nor writes the
+                    // slots.
+                    let (position, velocity, finals) = unsafe {
+                        (
+                            position.part(run.clone()),
+                            velocity.part(run.clone()),
+                            shared.finals(),
+                        )
+                    };
+                    // Read after every item of the last substep's pass has finished (and
+                    // published its stores with it).
+                    let check = blown.load(Ordering::Relaxed);
+                    let put_back = write_part(
+                        (position, velocity),
+                        &slot[run],
+                        finals,
+                        check.then_some(max_speed_squared),
+                    );
+                    repaired.fetch_add(put_back, Ordering::Relaxed);
                 }
             }
-            repaired.fetch_add(put_back, Ordering::Relaxed);
         });
         repaired.into_inner()
     }
+}
+
+/// What the first pass copies in and the last copies back need besides the particles.
+#[derive(Clone, Copy)]
+struct Moved {
+    /// The free particles' outside acceleration but for their external forces, m/s².
+    constant: glam::Vec3,
+    /// The frame, s: pins start a frame of their velocity before their target.
+    frame: f32,
+    guard: GuardSettings,
+}
+
+/// Copies the free particles of a run back from their slots (`slot`, by particle), putting
+/// back any that went non-finite or ran away (position as at the start, at rest) when
+/// `check` gives the guard's largest speed squared. Pins keep their target; burnt particles
+/// do not move. Returns how many were put back.
+fn write_part(
+    (position, velocity): (&mut [glam::Vec3], &mut [glam::Vec3]),
+    slot: &[u32],
+    (x, v, free): ([&[f32]; 3], [&[f32]; 3], &[f32]),
+    check: Option<f32>,
+) -> u32 {
+    // Every slot array cut to one length here, where the loop is, so one test per particle
+    // checks all its reads.
+    let slots = free.len();
+    let free = &free[..slots];
+    let (x0, x1, x2) = (&x[0][..slots], &x[1][..slots], &x[2][..slots]);
+    let (v0, v1, v2) = (&v[0][..slots], &v[1][..slots], &v[2][..slots]);
+    let mut put_back = 0;
+    for ((p, vel), &s) in position.iter_mut().zip(velocity.iter_mut()).zip(slot) {
+        let s = s as usize;
+        if s >= slots || free[s] == 0.0 {
+            continue;
+        }
+        let new_position = glam::Vec3::new(x0[s], x1[s], x2[s]);
+        let new_velocity = glam::Vec3::new(v0[s], v1[s], v2[s]);
+        if let Some(max_speed_squared) = check
+            && !(new_position.is_finite()
+                && new_velocity.is_finite()
+                && new_velocity.length_squared() <= max_speed_squared)
+        {
+            *vel = glam::Vec3::ZERO;
+            put_back += 1;
+        } else {
+            *p = new_position;
+            *vel = new_velocity;
+        }
+    }
+    put_back
 }
 
 /// The per-element arrays a band pass reads.
@@ -1167,7 +1244,7 @@ fn project_all_indexed(
 /// One pass of a frame's substeps, as [`XpbdSolver::run_passes`] runs it.
 #[derive(Clone, Copy, Debug)]
 enum Pass {
-    /// The first substep's prediction, over runs of slots.
+    /// The particles copied in and the first substep's prediction, over runs of slots.
     Predict,
     /// The springs of a grid's bands of one parity (0: even, 1: odd), an item per band; a
     /// mesh's springs (parity 0) as one item. The bending springs too when `bends`.
@@ -1181,8 +1258,12 @@ enum Pass {
     /// the cloth is not split between threads), and the pins' positions (when `refresh`).
     Serial { limit: bool, refresh: bool },
     /// Tethers (their targets looked up again when `refresh`), colliders, the velocity
-    /// update and, unless `last`, the next substep's prediction, over runs of slots.
+    /// update and, unless `last`, the next substep's prediction, over runs of slots; in the
+    /// `last`, whether the guard has anything to put back.
     Finish { last: bool, refresh: bool },
+    /// The free particles copied back (the guard putting back any that went non-finite or
+    /// ran away), over runs of particles.
+    Write,
 }
 
 /// The per-slot arrays handed to the threads of a frame's passes, each item taking the part
@@ -1285,6 +1366,22 @@ impl<'a> SharedSlots<'a> {
         }
     }
 
+    /// Every slot's position, velocity and freedom, to read.
+    ///
+    /// # Safety
+    /// Nothing writes them while these are used.
+    unsafe fn finals(&self) -> ([&'a [f32]; 3], [&'a [f32]; 3], &'a [f32]) {
+        let all = 0..self.len();
+        // SAFETY: the caller's promise.
+        unsafe {
+            (
+                three(|axis| self.x[axis].read(all.clone())),
+                three(|axis| self.v[axis].read(all.clone())),
+                self.free.read(all),
+            )
+        }
+    }
+
     /// All positions to read and all displacements to write.
     ///
     /// # Safety
@@ -1299,6 +1396,22 @@ impl<'a> SharedSlots<'a> {
             )
         }
     }
+}
+
+/// The particles as the first pass copies them in: by particle, their burn states,
+/// positions, velocities, external forces and inverse masses (zero for burnt and pinned
+/// ones); the free particles' outside acceleration but for their external forces, m/s²; the
+/// frame, s; and whether the acceleration arrays are written (some particle has an external
+/// force).
+struct Incoming<'a> {
+    state: &'a [BurnState],
+    position: &'a [glam::Vec3],
+    velocity: &'a [glam::Vec3],
+    force: &'a [glam::Vec3],
+    w: &'a [f32],
+    constant: glam::Vec3,
+    frame: f32,
+    accelerations: bool,
 }
 
 /// A contiguous run of the per-slot arrays.
@@ -1318,6 +1431,7 @@ struct SlotChunk<'a> {
 
 impl<'a> SlotChunk<'a> {
     /// The first `at` slots, and the rest.
+    #[cfg(test)]
     fn split_at(self, at: usize) -> (Self, Self) {
         let (particle, particle_rest) = self.particle.split_at_mut(at);
         let [x0, x1, x2] = self.x.map(|a| a.split_at_mut(at));
@@ -1359,30 +1473,18 @@ impl<'a> SlotChunk<'a> {
 
     /// Copies in the particles of these slots (padding stays still). Pins start `frame`
     /// seconds of their velocity before their target and move there over the substeps.
-    fn read(
-        &mut self,
-        particles: &Particles,
-        w: &[f32],
-        constant: glam::Vec3,
-        frame: f32,
-        accelerations: bool,
-    ) {
-        if accelerations {
-            self.read_slots::<true>(particles, w, constant, frame);
+    fn read(&mut self, incoming: &Incoming) {
+        if incoming.accelerations {
+            self.read_slots::<true>(incoming);
         } else {
-            self.read_slots::<false>(particles, w, constant, frame);
+            self.read_slots::<false>(incoming);
         }
     }
 
     /// [`Self::read`], writing the acceleration arrays when `ACCELERATIONS`.
     #[inline(always)]
-    fn read_slots<const ACCELERATIONS: bool>(
-        &mut self,
-        particles: &Particles,
-        w: &[f32],
-        constant: glam::Vec3,
-        frame: f32,
-    ) {
+    fn read_slots<const ACCELERATIONS: bool>(&mut self, incoming: &Incoming) {
+        let (constant, frame, w) = (incoming.constant, incoming.frame, incoming.w);
         // Every array cut to the slots' length once, so the loop checks no bounds on them.
         let n = self.free.len();
         let (particle, free, moving) = (
@@ -1398,9 +1500,9 @@ impl<'a> SlotChunk<'a> {
         let (a0, a1, a2) = (&mut a0[..n], &mut a1[..n], &mut a2[..n]);
         // `w` has one entry per particle; padding slots name no particle.
         let count = w.len();
-        let state = &particles.state[..count];
-        let (position, velocity) = (&particles.position[..count], &particles.velocity[..count]);
-        let force = &particles.external_force[..count];
+        let state = &incoming.state[..count];
+        let (position, velocity) = (&incoming.position[..count], &incoming.velocity[..count]);
+        let force = &incoming.force[..count];
         for s in 0..n {
             let i = particle[s] as usize;
             if i >= count {
@@ -1428,6 +1530,13 @@ impl<'a> SlotChunk<'a> {
                 (a0[s], a1[s], a2[s]) = (a.x, a.y, a.z);
             }
         }
+    }
+
+    /// Whether the guard may have anything to put back in these slots ([`any_blown`]).
+    fn any_blown(&self, max_speed_squared: f32) -> bool {
+        let [x0, x1, x2] = &self.x;
+        let [v0, v1, v2] = &self.v;
+        any_blown([x0, x1, x2], [v0, v1, v2], self.free, max_speed_squared)
     }
 
     /// One substep's per-slot work: tethers, colliders, then the velocity update and the
@@ -1906,7 +2015,7 @@ fn grid_layout(grid: GridShape, springs: &Springs, particles: usize) -> Option<L
 /// so it vectorises. It may say yes when the guard puts nothing back (a finite velocity
 /// whose square overflows), never no when it puts something back: its answer only decides
 /// whether each particle is tested.
-fn any_blown(x: &[Staggered; 3], v: &[Staggered; 3], free: &[f32], max_speed_squared: f32) -> bool {
+fn any_blown(x: [&[f32]; 3], v: [&[f32]; 3], free: &[f32], max_speed_squared: f32) -> bool {
     let n = free.len();
     let (x0, x1, x2) = (&x[0][..n], &x[1][..n], &x[2][..n]);
     let (v0, v1, v2) = (&v[0][..n], &v[1][..n], &v[2][..n]);
@@ -2289,6 +2398,48 @@ mod tests {
                 solver.advance(&mut particles, &springs, grid, &around, h, substeps);
             assert_eq!(put_back, 0);
             assert_ne!(particles.position, before);
+        }
+    }
+
+    /// On a cloth big enough to be shared between threads, whose copy in, substeps and copy
+    /// back run under one scope, a blown particle is found by the last substep's per-slot
+    /// pass and put back by the copy back, as on one thread: the same count and the same
+    /// bits with a pool of one, two and four threads as with none.
+    #[test]
+    fn the_guard_puts_back_a_blown_particle_on_any_number_of_threads() {
+        use bevy::tasks::TaskPoolBuilder;
+        let run = |threads: Option<usize>| {
+            let pool = threads.map(|n| TaskPoolBuilder::new().num_threads(n).build());
+            let (mut particles, springs, grid, params) =
+                cotton(crate::sim::ClothBuilder::grid(96, 96, 0.015).pin_top_edge());
+            let around = Surroundings {
+                pool: pool.as_ref(),
+                ..still_air(&params)
+            };
+            let mut solver = XpbdSolver::default();
+            let (h, substeps) = (1.0 / 360.0, 6);
+            solver.advance(&mut particles, &springs, grid, &around, h, substeps);
+            assert!(
+                solver.slots.len() >= PARALLEL_SLOTS,
+                "shared between threads"
+            );
+            let blown = 96 * 60 + 30;
+            particles.velocity[blown] = glam::Vec3::new(0.0, f32::NAN, 0.0);
+            let before = particles.position[blown];
+            let (put_back, _) =
+                solver.advance(&mut particles, &springs, grid, &around, h, substeps);
+            assert!(put_back >= 1, "{put_back}");
+            assert_eq!(particles.position[blown], before);
+            assert_eq!(particles.velocity[blown], glam::Vec3::ZERO);
+            assert!(particles.position.iter().all(|p| p.is_finite()));
+            assert!(particles.velocity.iter().all(|v| v.is_finite()));
+            let (again, _) = solver.advance(&mut particles, &springs, grid, &around, h, substeps);
+            assert_eq!(again, 0, "nothing left to put back");
+            (put_back, particles.position, particles.velocity)
+        };
+        let alone = run(None);
+        for threads in [1, 2, 4] {
+            assert!(run(Some(threads)) == alone, "{threads} threads");
         }
     }
 
