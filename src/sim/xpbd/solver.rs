@@ -421,7 +421,7 @@ impl XpbdSolver {
         self.prepare(particles, springs, grid);
         let frame = h * substeps as f32;
         let pool = around.pool.filter(|_| self.slots.len() >= PARALLEL_SLOTS);
-        let (pins, constant) = self.scan(particles, springs, around.params);
+        let (pins, constant) = self.scan(particles, around.params);
         let bend_interval = bend_interval(substeps);
         self.update_factors(
             particles,
@@ -495,18 +495,13 @@ impl XpbdSolver {
         }
     }
 
-    /// What the frame's copy of the particles into the slots needs to know, and a grid's
-    /// rest lengths in lane order: each particle's inverse mass (burnt ones zero; those that
-    /// changed listed as dirty), whether a pin came or went, whether any pin moves, whether
-    /// anything moves freely, and the free particles' outside acceleration but for their
-    /// external forces (gravity and wind drag). The copy itself is the first pass's
-    /// ([`Self::run_passes`]).
-    fn scan(
-        &mut self,
-        particles: &Particles,
-        springs: &Springs,
-        params: &ForceParams,
-    ) -> (PinNews, glam::Vec3) {
+    /// What the frame's copy of the particles into the slots needs to know: each particle's
+    /// inverse mass (burnt ones zero; those that changed listed as dirty), whether a pin came
+    /// or went, whether any pin moves, whether anything moves freely, and the free particles'
+    /// outside acceleration but for their external forces (gravity and wind drag). The copy
+    /// itself, and that of a grid's changed rest lengths into lane order, are the first
+    /// pass's ([`Self::run_passes`]).
+    fn scan(&mut self, particles: &Particles, params: &ForceParams) -> (PinNews, glam::Vec3) {
         let mut news = PinNews::default();
         let n = particles.len();
         let (state, inv_mass) = (&particles.state[..n], &particles.inv_mass[..n]);
@@ -553,14 +548,6 @@ impl XpbdSolver {
             for &s in &self.padding {
                 array[s as usize] = 0.0;
             }
-        }
-        if let Layout::Grid { element, .. } = &self.layout {
-            copy_changed_lengths(
-                &springs.rest_length,
-                &mut self.seen_rest,
-                element,
-                &mut self.rest,
-            );
         }
         (PinNews { uniform, ..news }, constant)
     }
@@ -784,13 +771,17 @@ impl XpbdSolver {
         let pin_positions = Disjoint::new(&mut self.pin_positions);
         let buckets = self.limited.share();
         let (passes, layout, pin_slots) = (&self.passes, &self.layout, &self.pin_slots);
-        let elements = Elements {
-            rest: &self.rest,
-            ca: &self.ca,
-            cb: &self.cb,
-            gamma: self.gamma,
-            compression: self.compression,
+        // A grid's rest lengths in lane order, brought up to date by the first pass, a piece
+        // of the springs per item, and read by the later ones.
+        let lengths = &springs.rest_length;
+        let element: &[u32] = match layout {
+            Layout::Grid { element, .. } => element,
+            _ => &[],
         };
+        let compared = lengths.len().min(self.seen_rest.len()).min(element.len());
+        let seen = Disjoint::new(&mut self.seen_rest[..compared]);
+        let rest = Disjoint::new(&mut self.rest[..]);
+        let (ca, cb, gamma, compression) = (&self.ca, &self.cb, self.gamma, self.compression);
         let parts = self.pass_sizes.first().copied().unwrap_or(1);
         // The slots of a per-slot item: a grid's band's rows in each quarter grid (the rows
         // whose springs the same end of the pool just projected), else a run of slots.
@@ -831,25 +822,48 @@ impl XpbdSolver {
                         slots.read(&incoming);
                         slots.run(&[], step, Phase::PredictOnly);
                     }
+                    let piece = piece(compared, parts, item);
+                    // SAFETY: the items take disjoint pieces of the springs, and no two
+                    // springs share an element (`grid_layout`), so they write disjoint
+                    // lengths; no pass reads the lengths before the next one.
+                    let seen = unsafe { seen.part(piece.clone()) };
+                    let element = &element[piece.clone()];
+                    copy_changed_lengths(&lengths[piece], seen, element, |e, length| {
+                        if e < rest.len() {
+                            // SAFETY: as above.
+                            unsafe { rest.part(e..e + 1)[0] = length };
+                        }
+                    });
                 }
-                Pass::Springs { parity, bends } => match layout {
-                    Layout::Grid {
-                        slots: grid, lanes, ..
-                    } => {
-                        let band = &lanes.bands[parity as usize + 2 * item];
-                        // SAFETY: bands of one parity reach disjoint rows, and x is not written
-                        // while springs are projected.
-                        let view = unsafe { shared.band(*grid, band) };
-                        let lanes = &lanes.lanes[band.lanes.clone()];
-                        project_band::<true>(view, with_bends(lanes, bends), &elements);
+                Pass::Springs { parity, bends } => {
+                    // SAFETY: the rest lengths are written only in the first pass.
+                    let rest = unsafe { rest.read(0..rest.len()) };
+                    let elements = Elements {
+                        rest,
+                        ca,
+                        cb,
+                        gamma,
+                        compression,
+                    };
+                    match layout {
+                        Layout::Grid {
+                            slots: grid, lanes, ..
+                        } => {
+                            let band = &lanes.bands[parity as usize + 2 * item];
+                            // SAFETY: bands of one parity reach disjoint rows, and x is not written
+                            // while springs are projected.
+                            let view = unsafe { shared.band(*grid, band) };
+                            let lanes = &lanes.lanes[band.lanes.clone()];
+                            project_band::<true>(view, with_bends(lanes, bends), &elements);
+                        }
+                        Layout::Indexed => {
+                            // SAFETY: a mesh's springs are one item, the pass's only one.
+                            let (x, u) = unsafe { shared.positions() };
+                            project_all_indexed(x, u, springs, &elements, bends);
+                        }
+                        Layout::Unset => {}
                     }
-                    Layout::Indexed => {
-                        // SAFETY: a mesh's springs are one item, the pass's only one.
-                        let (x, u) = unsafe { shared.positions() };
-                        project_all_indexed(x, u, springs, &elements, bends);
-                    }
-                    Layout::Unset => {}
-                },
+                }
                 Pass::Limit {
                     parity,
                     round,
@@ -2037,21 +2051,24 @@ fn any_blown(x: [&[f32]; 3], v: [&[f32]; 3], free: &[f32], max_speed_squared: f3
 /// is passed over in one vector compare.
 const LENGTH_CHUNK: usize = 16;
 
-/// Copies into `rest` (by element, spring `s` at `element[s]`) the lengths of `lengths` that
-/// differ from `seen` in their bits, and records them in `seen`. Most frames shrink a few
-/// hundred springs along the fire, or none: a grid's rest lengths cost a vector compare per
-/// [`LENGTH_CHUNK`] springs, and a copy of the chunks that changed, not a scattered copy of
-/// every spring.
-fn copy_changed_lengths(lengths: &[f32], seen: &mut [f32], element: &[u32], rest: &mut [f32]) {
+/// Hands `set` (element, length) the lengths of `lengths` that differ from `seen` in their
+/// bits (spring `s` at element `element[s]`), and records them in `seen`. Most frames shrink
+/// a few hundred springs along the fire, or none: a grid's rest lengths cost a vector compare
+/// per [`LENGTH_CHUNK`] springs, and a copy of the chunks that changed, not a scattered copy
+/// of every spring.
+fn copy_changed_lengths(
+    lengths: &[f32],
+    seen: &mut [f32],
+    element: &[u32],
+    mut set: impl FnMut(usize, f32),
+) {
     let n = lengths.len().min(seen.len()).min(element.len());
     let (lengths, seen, element) = (&lengths[..n], &mut seen[..n], &element[..n]);
     let whole = n - n % LENGTH_CHUNK;
     let mut copy = |lengths: &[f32], seen: &mut [f32], element: &[u32]| {
         seen.copy_from_slice(lengths);
         for (&length, &e) in lengths.iter().zip(element) {
-            if let Some(rest) = rest.get_mut(e as usize) {
-                *rest = length;
-            }
+            set(e as usize, length);
         }
     };
     for ((lengths, seen), element) in lengths[..whole]
