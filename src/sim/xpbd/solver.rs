@@ -825,7 +825,8 @@ impl XpbdSolver {
                     let piece = piece(compared, parts, item);
                     // SAFETY: the items take disjoint pieces of the springs, and no two
                     // springs share an element (`grid_layout`), so they write disjoint
-                    // lengths; no pass reads the lengths before the next one.
+                    // lengths; nothing reads the lane-order lengths until the springs' pass,
+                    // which starts after every item of this one has finished.
                     let seen = unsafe { seen.part(piece.clone()) };
                     let element = &element[piece.clone()];
                     copy_changed_lengths(&lengths[piece], seen, element, |e, length| {
