@@ -236,11 +236,10 @@ impl SlotArrays {
         self.particle.resize(slots, PHANTOM);
     }
 
-    /// The arrays cut into `parts` consecutive runs of slots (for tests: the solver hands
-    /// its passes runs through [`SharedSlots`]).
+    /// Every slot's arrays as one chunk (for tests: the solver hands its passes runs of
+    /// slots through [`SharedSlots`]).
     #[cfg(test)]
-    fn parts(&mut self, parts: usize) -> impl Iterator<Item = SlotChunk<'_>> {
-        let size = self.len().div_ceil(parts.max(1)).max(1);
+    fn whole(&mut self) -> SlotChunk<'_> {
         let SlotArrays {
             particle,
             x,
@@ -253,7 +252,7 @@ impl SlotArrays {
             tether_length,
             tether_target,
         } = self;
-        let mut rest = SlotChunk {
+        SlotChunk {
             particle,
             x: x.each_mut().map(|a| &mut a[..]),
             v: v.each_mut().map(|a| &mut a[..]),
@@ -264,15 +263,7 @@ impl SlotArrays {
             tether_pin,
             tether_length,
             tether_target: tether_target.each_mut().map(|a| &mut a[..]),
-        };
-        core::iter::from_fn(move || {
-            (!rest.free.is_empty()).then(|| {
-                let take = size.min(rest.free.len());
-                let (head, tail) = core::mem::take(&mut rest).split_at(take);
-                rest = tail;
-                head
-            })
-        })
+        }
     }
 
     fn heap_bytes(&self) -> usize {
@@ -467,12 +458,12 @@ impl XpbdSolver {
             refresh,
             write_parts,
         );
-        let moved = Moved {
+        let copies = Copies {
             constant,
             frame,
             guard: around.guard,
         };
-        let repaired = self.run_passes(particles, springs, &step, (rounds, moved), pool);
+        let repaired = self.run_passes(particles, springs, &step, rounds, copies, pool);
         self.targets_valid = tethered && !pins.moving;
         (repaired, pins.changed)
     }
@@ -744,7 +735,8 @@ impl XpbdSolver {
         particles: &mut Particles,
         springs: &Springs,
         step: &Substep,
-        (rounds, moved): (u32, Moved),
+        rounds: u32,
+        copies: Copies,
         pool: Option<&TaskPool>,
     ) -> u32 {
         let n = particles.len();
@@ -762,8 +754,8 @@ impl XpbdSolver {
         let (state, force) = (&state[..n], &external_force[..n]);
         let (w, slot) = (&self.w, &self.slot);
         let accelerations = step.uniform.is_none();
-        let check_guard = moved.guard.enabled;
-        let max_speed_squared = moved.guard.max_speed * moved.guard.max_speed;
+        let check_guard = copies.guard.enabled;
+        let max_speed_squared = copies.guard.max_speed * copies.guard.max_speed;
         let blown = AtomicBool::new(false);
         let repaired = AtomicU32::new(0);
         let write_parts = self.pass_sizes.last().copied().unwrap_or(1);
@@ -812,8 +804,8 @@ impl XpbdSolver {
                         velocity,
                         force,
                         w,
-                        constant: moved.constant,
-                        frame: moved.frame,
+                        constant: copies.constant,
+                        frame: copies.frame,
                         accelerations,
                     };
                     for run in runs(item) {
@@ -963,11 +955,12 @@ impl XpbdSolver {
 
 /// What the first pass copies in and the last copies back need besides the particles.
 #[derive(Clone, Copy)]
-struct Moved {
+struct Copies {
     /// The free particles' outside acceleration but for their external forces, m/s².
     constant: glam::Vec3,
     /// The frame, s: pins start a frame of their velocity before their target.
     frame: f32,
+    /// What the copy back puts back.
     guard: GuardSettings,
 }
 
@@ -1430,7 +1423,6 @@ struct Incoming<'a> {
 }
 
 /// A contiguous run of the per-slot arrays.
-#[derive(Default)]
 struct SlotChunk<'a> {
     particle: &'a mut [u32],
     x: [&'a mut [f32]; 3],
@@ -1445,47 +1437,6 @@ struct SlotChunk<'a> {
 }
 
 impl<'a> SlotChunk<'a> {
-    /// The first `at` slots, and the rest.
-    #[cfg(test)]
-    fn split_at(self, at: usize) -> (Self, Self) {
-        let (particle, particle_rest) = self.particle.split_at_mut(at);
-        let [x0, x1, x2] = self.x.map(|a| a.split_at_mut(at));
-        let [v0, v1, v2] = self.v.map(|a| a.split_at_mut(at));
-        let [u0, u1, u2] = self.u.map(|a| a.split_at_mut(at));
-        let [a0, a1, a2] = self.acceleration.map(|a| a.split_at_mut(at));
-        let (free, free_rest) = self.free.split_at_mut(at);
-        let (moving, moving_rest) = self.moving.split_at_mut(at);
-        let (pin, pin_rest) = self.tether_pin.split_at_mut(at);
-        let (length, length_rest) = self.tether_length.split_at_mut(at);
-        let [t0, t1, t2] = self.tether_target.map(|a| a.split_at_mut(at));
-        (
-            Self {
-                particle,
-                x: [x0.0, x1.0, x2.0],
-                v: [v0.0, v1.0, v2.0],
-                u: [u0.0, u1.0, u2.0],
-                acceleration: [a0.0, a1.0, a2.0],
-                free,
-                moving,
-                tether_pin: pin,
-                tether_length: length,
-                tether_target: [t0.0, t1.0, t2.0],
-            },
-            Self {
-                particle: particle_rest,
-                x: [x0.1, x1.1, x2.1],
-                v: [v0.1, v1.1, v2.1],
-                u: [u0.1, u1.1, u2.1],
-                acceleration: [a0.1, a1.1, a2.1],
-                free: free_rest,
-                moving: moving_rest,
-                tether_pin: pin_rest,
-                tether_length: length_rest,
-                tether_target: [t0.1, t1.1, t2.1],
-            },
-        )
-    }
-
     /// Copies in the particles of these slots (padding stays still). Pins start `frame`
     /// seconds of their velocity before their target and move there over the substeps.
     fn read(&mut self, incoming: &Incoming) {
@@ -2290,12 +2241,8 @@ mod tests {
         let step = still_substep(true);
         let original = slots.clone();
         let mut apart = slots.clone();
-        slots
-            .parts(1)
-            .next()
-            .unwrap()
-            .run(&[], &step, Phase::FinishAndPredict);
-        let mut chunk = apart.parts(1).next().unwrap();
+        slots.whole().run(&[], &step, Phase::FinishAndPredict);
+        let mut chunk = apart.whole();
         chunk.tethers();
         chunk.finish_and_predict::<false>(step.h, step.drag, [0.0; 3]);
         let bits = motion_bits;
@@ -2306,9 +2253,7 @@ mod tests {
         untethered.v = original.v.clone();
         untethered.u = original.u.clone();
         untethered
-            .parts(1)
-            .next()
-            .unwrap()
+            .whole()
             .finish_and_predict::<false>(step.h, step.drag, [0.0; 3]);
         assert_ne!(bits(&untethered), bits(&apart));
     }
@@ -2331,12 +2276,12 @@ mod tests {
                 for axis in &mut one.acceleration {
                     axis.fill(f32::NAN);
                 }
-                arrays.parts(1).next().unwrap().run(&[], &step, phase);
+                arrays.whole().run(&[], &step, phase);
                 let uniform = Substep {
                     uniform: Some(a),
                     ..step
                 };
-                one.parts(1).next().unwrap().run(&[], &uniform, phase);
+                one.whole().run(&[], &uniform, phase);
                 assert_eq!(bits(&arrays), bits(&one), "tethered {tethered}");
                 if phase != Phase::Finish {
                     assert_ne!(bits(&arrays), bits(&slots), "the slots moved");
