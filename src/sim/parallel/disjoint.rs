@@ -37,6 +37,12 @@ impl<'a, T> Disjoint<'a, T> {
         self.len
     }
 
+    /// The first element, for a caller that reads and writes its parts through a pointer
+    /// (under the promises of [`Self::part`] and [`Self::read`]).
+    pub fn as_mut_ptr(&self) -> *mut T {
+        self.start
+    }
+
     /// The elements in `range`, to write. Panics if `range` is out of bounds.
     ///
     /// # Safety

@@ -16,7 +16,9 @@ use super::kernel::{
 };
 use super::lanes::{Band, GridLanes, GridSlots, Lane};
 use super::staggered::{self, Staggered};
-use super::stretch_limit::{Flat, LimitedSprings, RoundTallies, Rows, limit_all, limit_bucket};
+use super::stretch_limit::{
+    Flat, LimitedSprings, Reach, RoundTallies, Rows, limit_all, limit_bucket,
+};
 use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
 use crate::sim::forces::ForceParams;
@@ -882,8 +884,8 @@ impl XpbdSolver {
                     // SAFETY: bands of one parity reach disjoint rows (the springs outside
                     // the bands are their pass's only item), and x is not written while
                     // springs are limited.
-                    let mut rows = unsafe { shared.rows(*grid, reach) };
-                    tallies.add(round, limit_bucket(&mut rows, &buckets, bucket));
+                    let mut reach = unsafe { shared.reach(*grid, reach) };
+                    tallies.add(round, limit_bucket(&mut reach, &buckets, bucket));
                 }
                 Pass::Serial { limit, refresh } => {
                     if limit {
@@ -1351,6 +1353,28 @@ impl<'a> SharedSlots<'a> {
             u,
             base: (band.reach.start * grid.width()) as usize,
         }
+    }
+
+    /// The rows `reach` of a grid laid out as `grid`, in every quarter grid, as a band's
+    /// stretch-limit pass reads and moves them. Panics if they are not all in the slots.
+    ///
+    /// # Safety
+    /// As [`Self::rows`].
+    unsafe fn reach(&self, grid: GridSlots, reach: core::ops::Range<u32>) -> Reach<'a> {
+        let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
+        let (start, end) = (reach.start as usize * width, reach.end as usize * width);
+        let slots = self.x.iter().chain(&self.u).map(Disjoint::len).min();
+        assert!(
+            start <= end && end <= quarter && slots.is_some_and(|n| n >= 4 * quarter),
+            "reach out of bounds"
+        );
+        let (x, u) = (
+            three(|axis| self.x[axis].as_mut_ptr().cast_const()),
+            three(|axis| self.u[axis].as_mut_ptr()),
+        );
+        // SAFETY: each quarter grid's rows of the reach are in every array (checked above);
+        // the rest is the caller's promise.
+        unsafe { Reach::new(x, u, four(|q| q * quarter + start), end - start) }
     }
 
     /// The displacements of the rows `reach` of a grid laid out as `grid` in every quarter
