@@ -55,9 +55,10 @@ pub(super) struct Rows<'a> {
 ///
 /// One check per end (its index within the reach) stands for the six reads and writes of its
 /// three axes, which go through a base pointer per axis and an offset per quarter grid. The
-/// same corrections through [`Rows`]' 24 slices, each read bounds-checked through its quarter
-/// grid's slice, took 24 to 34 ns a spring at 256 x 256 (against 8 for [`Flat`] at 32 x 32);
-/// the stretch limit was the largest item of a big cloth's frame.
+/// same passes through [`Rows`]' 24 slices, each read and write loading its quarter grid's
+/// slice and checking its bounds, took 24 ns a spring at 128 x 128 and 32 to 34 at
+/// 256 x 256 (the burning stress cloth, timed with temporary clocks), against 16 to 21 this
+/// way: the stretch limit was then the largest item of a big cloth's frame.
 pub(super) struct Reach<'a> {
     /// Each axis' slot array of positions, from its first slot.
     x: [*const f32; 3],
