@@ -616,6 +616,19 @@ mod tests {
         (parts.particles, parts.springs)
     }
 
+    /// [`grid`] with every rest length `fraction` of what it was, as heat shrinks springs.
+    fn shrunk_grid(
+        columns: u32,
+        rows: u32,
+        fraction: f32,
+    ) -> (crate::sim::Particles, crate::sim::Springs) {
+        let (particles, mut springs) = grid(columns, rows);
+        for rest in &mut springs.rest_length {
+            *rest *= fraction;
+        }
+        (particles, springs)
+    }
+
     /// Every eligible spring lands in exactly one bucket: a band whose reach holds both its
     /// ends (the packed ends name its slots), or, if it reaches further, the last bucket.
     #[test]
@@ -713,10 +726,7 @@ mod tests {
     #[test]
     fn a_colour_checked_first_corrects_as_springs_in_turn() {
         let (columns, rows) = (13u32, 11u32);
-        let (particles, mut springs) = grid(columns, rows);
-        for rest in &mut springs.rest_length {
-            *rest *= 0.93;
-        }
+        let (particles, springs) = shrunk_grid(columns, rows, 0.93);
         let n = particles.len();
         let slots = GridSlots::new(crate::sim::topology::GridShape { columns, rows });
         let lanes = GridLanes::new(slots, rows);
@@ -767,10 +777,7 @@ mod tests {
     #[allow(unsafe_code)]
     fn a_band_corrects_through_its_reach_as_through_every_slot() {
         let (columns, rows) = (21u32, 40u32);
-        let (particles, mut springs) = grid(columns, rows);
-        for rest in &mut springs.rest_length {
-            *rest *= 0.93;
-        }
+        let (particles, springs) = shrunk_grid(columns, rows, 0.93);
         let n = particles.len();
         let slots = GridSlots::new(crate::sim::topology::GridShape { columns, rows });
         let lanes = GridLanes::new(slots, 8);
@@ -838,10 +845,7 @@ mod tests {
     #[test]
     fn rounds_bring_every_spring_within_its_limit() {
         let (columns, rows) = (12u32, 24u32);
-        let (particles, mut springs) = grid(columns, rows);
-        for rest in &mut springs.rest_length {
-            *rest *= 0.7;
-        }
+        let (particles, springs) = shrunk_grid(columns, rows, 0.7);
         let n = particles.len();
         let slots = GridSlots::new(crate::sim::topology::GridShape { columns, rows });
         let lanes = GridLanes::new(slots, 8);
