@@ -16,9 +16,7 @@ use super::kernel::{
 };
 use super::lanes::{Band, GridLanes, GridSlots, Lane};
 use super::staggered::{self, Staggered};
-use super::stretch_limit::{
-    Flat, LimitedSprings, Reach, RoundTallies, Rows, limit_all, limit_bucket,
-};
+use super::stretch_limit::{Flat, LimitedSprings, Reach, RoundTallies, limit_all, limit_bucket};
 use crate::sim::anchors::Anchors;
 use crate::sim::collision::{WorldCollider, sliding_kept};
 use crate::sim::forces::ForceParams;
@@ -1344,14 +1342,24 @@ impl<'a> SharedSlots<'a> {
     /// rows in every quarter grid, and the positions from its reach's first row on.
     ///
     /// # Safety
-    /// As [`Self::rows`].
+    /// Nothing else uses the displacements of these rows while these are used, and no
+    /// position is written meanwhile.
     unsafe fn band(&self, grid: GridSlots, band: &Band) -> BandView<'a> {
-        // SAFETY: the caller's promise.
-        let Rows { x, u } = unsafe { self.rows(grid, band.reach.clone()) };
+        let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
+        let (start, end) = (
+            band.reach.start as usize * width,
+            band.reach.end as usize * width,
+        );
         BandView {
-            x,
-            u,
-            base: (band.reach.start * grid.width()) as usize,
+            // SAFETY: the caller's promise.
+            x: three(|axis| {
+                four(|q| unsafe { self.x[axis].read(q * quarter + start..(q + 1) * quarter) })
+            }),
+            // SAFETY: the caller's promise.
+            u: three(|axis| {
+                four(|q| unsafe { self.u[axis].part(q * quarter + start..q * quarter + end) })
+            }),
+            base: start,
         }
     }
 
@@ -1359,7 +1367,7 @@ impl<'a> SharedSlots<'a> {
     /// stretch-limit pass reads and moves them. Panics if they are not all in the slots.
     ///
     /// # Safety
-    /// As [`Self::rows`].
+    /// As [`Self::band`].
     unsafe fn reach(&self, grid: GridSlots, reach: core::ops::Range<u32>) -> Reach<'a> {
         let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
         let (start, end) = (reach.start as usize * width, reach.end as usize * width);
@@ -1375,27 +1383,6 @@ impl<'a> SharedSlots<'a> {
         // SAFETY: each quarter grid's rows of the reach are in every array (checked above);
         // the rest is the caller's promise.
         unsafe { Reach::new(x, u, four(|q| q * quarter + start), end - start) }
-    }
-
-    /// The displacements of the rows `reach` of a grid laid out as `grid` in every quarter
-    /// grid, and the positions from `reach`'s first row on.
-    ///
-    /// # Safety
-    /// Nothing else uses the displacements of these rows while these are used, and no
-    /// position is written meanwhile.
-    unsafe fn rows(&self, grid: GridSlots, reach: core::ops::Range<u32>) -> Rows<'a> {
-        let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
-        let (start, end) = (reach.start as usize * width, reach.end as usize * width);
-        Rows {
-            // SAFETY: the caller's promise.
-            x: three(|axis| {
-                four(|q| unsafe { self.x[axis].read(q * quarter + start..(q + 1) * quarter) })
-            }),
-            // SAFETY: the caller's promise.
-            u: three(|axis| {
-                four(|q| unsafe { self.u[axis].part(q * quarter + start..q * quarter + end) })
-            }),
-        }
     }
 
     /// Every slot's position, velocity and freedom, to read.

@@ -43,20 +43,14 @@ pub(super) struct LimitedSpring {
     past: f32,
 }
 
-/// Positions to read and displacements to write, per axis and quarter grid, from the first
-/// row of a reach on (for a mesh: quarter 0 holds every slot).
-pub(super) struct Rows<'a> {
-    pub x: [[&'a [f32]; 4]; 3],
-    pub u: [[&'a mut [f32]; 4]; 3],
-}
-
 /// A band's reach as its stretch-limit pass reads and moves it: the rows of the reach in
 /// every quarter grid, ends packed (quarter grid, index from the reach's first row).
 ///
 /// One check per end (its index within the reach) stands for the six reads and writes of its
 /// three axes, which go through a base pointer per axis and an offset per quarter grid. The
-/// same passes through [`Rows`]' 24 slices, each read and write loading its quarter grid's
-/// slice and checking its bounds, took 24 ns a spring at 128 x 128 and 32 to 34 at
+/// same passes through 24 slices (a quarter grid's part of the reach per axis and array, as
+/// the spring projection takes them), each read and write loading its slice and checking its
+/// bounds, took 24 ns a spring at 128 x 128 and 32 to 34 at
 /// 256 x 256 (the burning stress cloth, timed with temporary clocks), against 16 to 21 this
 /// way: the stretch limit was then the largest item of a big cloth's frame.
 pub(super) struct Reach<'a> {
@@ -629,6 +623,26 @@ mod tests {
         (particles, springs)
     }
 
+    /// The particles' positions in `len` slots (particle `i` in slot `slot[i]`), per axis, and
+    /// displacements of up to `5 × jitter` m, scattered the same way on every call.
+    fn in_slots(
+        particles: &crate::sim::Particles,
+        slot: &[u32],
+        len: usize,
+        jitter: f32,
+    ) -> ([Vec<f32>; 3], [Vec<f32>; 3]) {
+        let mut x: [Vec<f32>; 3] = core::array::from_fn(|_| vec![0.0; len]);
+        let mut u = x.clone();
+        for (i, p) in particles.position.iter().enumerate() {
+            let s = slot[i] as usize;
+            for k in 0..3 {
+                x[k][s] = p[k];
+                u[k][s] = jitter * (((i * 7 + k * 13) % 11) as f32 - 5.0);
+            }
+        }
+        (x, u)
+    }
+
     /// Every eligible spring lands in exactly one bucket: a band whose reach holds both its
     /// ends (the packed ends name its slots), or, if it reaches further, the last bucket.
     #[test]
@@ -789,15 +803,7 @@ mod tests {
         let mut limited = LimitedSprings::default();
         limited.prepare(Some((&lanes, slots, columns)), springs.len());
         limited.gather(&list, &particles, &springs, (&w, &slot), 1.1);
-        let mut x: [Vec<f32>; 3] = core::array::from_fn(|_| vec![0.0; slots.len()]);
-        let mut u0 = x.clone();
-        for (i, p) in particles.position.iter().enumerate() {
-            let s = slot[i] as usize;
-            for k in 0..3 {
-                x[k][s] = p[k];
-                u0[k][s] = 0.006 * (((i * 7 + k * 13) % 11) as f32 - 5.0);
-            }
-        }
+        let (x, u0) = in_slots(&particles, &slot, slots.len(), 0.006);
         let (quarter, width) = (slots.quarter_len() as usize, slots.width() as usize);
         let buckets = limited.share();
         let mut corrected = 0;
@@ -863,15 +869,7 @@ mod tests {
             limited.prepare(banded.then_some((&lanes, slots, columns)), springs.len());
             limited.gather(&list, &particles, &springs, (&w, &slot), 1.1);
             let len = if banded { slots.len() } else { n };
-            let mut x: [Vec<f32>; 3] = core::array::from_fn(|_| vec![0.0; len]);
-            let mut u = x.clone();
-            for (i, p) in particles.position.iter().enumerate() {
-                let s = slot[i] as usize;
-                for k in 0..3 {
-                    x[k][s] = p[k];
-                    u[k][s] = 0.004 * (((i * 7 + k * 13) % 11) as f32 - 5.0);
-                }
-            }
+            let (x, mut u) = in_slots(&particles, &slot, len, 0.004);
             {
                 let [u0, u1, u2] = &mut u;
                 let mut flat = Flat {
