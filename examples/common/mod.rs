@@ -7,7 +7,10 @@
 //! The screenshot's pixels are classified (light cloth, char, fire, and smoke: grey veiling
 //! the sky above the cloth's highest row) and the counts printed;
 //! `BURNING_CLOTH_REQUIRE=cloth,char,fire,smoke` makes the app exit with an error when any of the
-//! named classes has fewer than 50 pixels.
+//! named classes has fewer than 50 pixels. `BURNING_CLOTH_RENDER_SCALE=0.5` renders the window
+//! at half its pixels in each direction, laid out as at full size (text and panel scaled
+//! down with it): a software renderer shades every pixel on the CPU, so CI's check runs
+//! take that.
 
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
 use bevy::prelude::*;
@@ -102,15 +105,41 @@ pub fn help_line(text: &str) -> impl Bundle {
     )
 }
 
-/// Window settings for an example.
+/// Window settings for an example: 1280 x 720 logical pixels, rendered at
+/// `BURNING_CLOTH_RENDER_SCALE` (0.1 to 1, default 1) times as many in each direction.
 pub fn window(title: &str) -> WindowPlugin {
+    let scale = render_scale();
+    let mut resolution = bevy::window::WindowResolution::new(
+        (1280.0 * scale).round() as u32,
+        (720.0 * scale).round() as u32,
+    );
+    if scale != 1.0 {
+        resolution = resolution.with_scale_factor_override(scale);
+    }
     WindowPlugin {
         primary_window: Some(Window {
             title: title.into(),
-            resolution: (1280, 720).into(),
+            resolution,
             ..default()
         }),
         ..default()
+    }
+}
+
+/// `BURNING_CLOTH_RENDER_SCALE`: the fraction of the window's logical size rendered, in
+/// each direction. Out of range or unreadable values are reported and ignored.
+fn render_scale() -> f32 {
+    let Ok(text) = std::env::var("BURNING_CLOTH_RENDER_SCALE") else {
+        return 1.0;
+    };
+    match text.trim().parse::<f32>() {
+        Ok(scale) if (0.1..=1.0).contains(&scale) => scale,
+        _ => {
+            eprintln!(
+                "BURNING_CLOTH_RENDER_SCALE={text}: not a number from 0.1 to 1; rendering at full size"
+            );
+            1.0
+        }
     }
 }
 
@@ -286,18 +315,20 @@ fn classify_screenshot(
     captured: On<bevy::render::view::screenshot::ScreenshotCaptured>,
     check: Res<CheckRun>,
     #[cfg(feature = "egui")] panel: Option<Res<bevy_burning_cloth::ui::ClothPanel>>,
+    windows: Query<&Window, With<bevy::window::PrimaryWindow>>,
     mut commands: Commands,
 ) {
     let image = &captured.image;
     let mut counts = PixelCounts::default();
     // The control panel's own dark and light pixels are not the scene's: leave them out.
-    // (The window is 1280 x 720 at scale factor 1 under xvfb, so logical = physical pixels.)
+    // Its rectangle is in logical pixels; the screenshot's are physical.
+    let scale = windows.single().map_or(1.0, Window::scale_factor);
     #[cfg(feature = "egui")]
     let skip = panel.and_then(|p| p.screen_rect);
     #[cfg(not(feature = "egui"))]
     let skip: Option<Rect> = None;
     let skip = skip.map(|r| {
-        let r = r.inflate(2.0);
+        let r = Rect::from_corners(r.min * scale, r.max * scale).inflate(2.0);
         (
             r.min.x.max(0.0) as u32..r.max.x.max(0.0) as u32,
             r.min.y.max(0.0) as u32..r.max.y.max(0.0) as u32,
