@@ -71,6 +71,13 @@ impl GridSlots {
         self.rows * self.width
     }
 
+    /// Where `rows` lie within each quarter grid: their slots counted from the quarter
+    /// grid's first (add `q × quarter_len()` for quarter grid `q`).
+    pub fn row_span(&self, rows: core::ops::Range<u32>) -> core::ops::Range<usize> {
+        let width = self.width as usize;
+        rows.start as usize * width..rows.end as usize * width
+    }
+
     /// Rows of the grid.
     pub fn rows(&self) -> u32 {
         self.rows

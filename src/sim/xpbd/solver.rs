@@ -782,10 +782,9 @@ impl XpbdSolver {
                 Layout::Grid {
                     slots: grid, lanes, ..
                 } if parts > 1 => {
-                    let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
-                    let rows = &lanes.bands[item].rows;
-                    let (start, end) = (rows.start as usize * width, rows.end as usize * width);
-                    four(|q| q * quarter + start..q * quarter + end)
+                    let quarter = grid.quarter_len() as usize;
+                    let span = grid.row_span(lanes.bands[item].rows.clone());
+                    four(|q| q * quarter + span.start..q * quarter + span.end)
                 }
                 _ => [piece(shared.len(), parts, item), 0..0, 0..0, 0..0],
             }
@@ -1345,11 +1344,8 @@ impl<'a> SharedSlots<'a> {
     /// Nothing else uses the displacements of these rows while these are used, and no
     /// position is written meanwhile.
     unsafe fn band(&self, grid: GridSlots, band: &Band) -> BandView<'a> {
-        let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
-        let (start, end) = (
-            band.reach.start as usize * width,
-            band.reach.end as usize * width,
-        );
+        let quarter = grid.quarter_len() as usize;
+        let core::ops::Range { start, end } = grid.row_span(band.reach.clone());
         BandView {
             // SAFETY: the caller's promise.
             x: three(|axis| {
@@ -1369,8 +1365,8 @@ impl<'a> SharedSlots<'a> {
     /// # Safety
     /// As [`Self::band`].
     unsafe fn reach(&self, grid: GridSlots, reach: core::ops::Range<u32>) -> Reach<'a> {
-        let (quarter, width) = (grid.quarter_len() as usize, grid.width() as usize);
-        let (start, end) = (reach.start as usize * width, reach.end as usize * width);
+        let quarter = grid.quarter_len() as usize;
+        let core::ops::Range { start, end } = grid.row_span(reach);
         let slots = self.x.iter().chain(&self.u).map(Disjoint::len).min();
         assert!(
             start <= end && end <= quarter && slots.is_some_and(|n| n >= 4 * quarter),

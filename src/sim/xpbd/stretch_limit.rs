@@ -804,7 +804,7 @@ mod tests {
         limited.prepare(Some((&lanes, slots, columns)), springs.len());
         limited.gather(&list, &particles, &springs, (&w, &slot), 1.1);
         let (x, u0) = in_slots(&particles, &slot, slots.len(), 0.006);
-        let (quarter, width) = (slots.quarter_len() as usize, slots.width() as usize);
+        let quarter = slots.quarter_len() as usize;
         let buckets = limited.share();
         let mut corrected = 0;
         for (bucket, band) in lanes.bands.iter().enumerate() {
@@ -816,16 +816,15 @@ mod tests {
             };
             let by_flat = limit_bucket(&mut flat, &buckets, bucket);
             let mut reach_u = u0.clone();
-            let start = band.reach.start as usize * width;
-            let len = band.reach.end as usize * width - start;
+            let span = slots.row_span(band.reach.clone());
             // SAFETY: the reach's rows are in every array (each holds the whole grid's
             // slots), and nothing else reads or writes them while the reach lives.
             let mut reach = unsafe {
                 Reach::new(
                     core::array::from_fn(|k| x[k].as_ptr()),
                     core::array::from_fn(|k| reach_u[k].as_mut_ptr()),
-                    core::array::from_fn(|q| q * quarter + start),
-                    len,
+                    core::array::from_fn(|q| q * quarter + span.start),
+                    span.len(),
                 )
             };
             let by_reach = limit_bucket(&mut reach, &buckets, bucket);
