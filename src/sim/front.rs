@@ -972,19 +972,23 @@ mod tests {
         assert_eq!(topology.live_triangle_count(), 0);
     }
 
+    /// A cotton grid `columns` x `rows`, 10 cm apart, pinned at its top corners.
+    fn cotton_grid(columns: u32, rows: u32) -> crate::sim::ClothSim {
+        crate::sim::ClothSim::new(
+            &crate::sim::ClothBuilder::grid(columns, rows, 0.1).pin_top_corners(),
+            BurnMaterial::COTTON,
+            glam::Affine3A::IDENTITY,
+        )
+        .unwrap()
+    }
+
     /// A 4 x 4 cotton cloth after one frame in which `burn` were raised past the burnt
     /// temperature, and the index of its shear spring from `a` to `b` (grid columns, rows).
     fn cloth_with_burnt(
         burn: &[(u32, u32)],
         [a, b]: [(u32, u32); 2],
     ) -> (crate::sim::ClothSim, usize) {
-        use crate::sim::{ClothBuilder, ClothSim, SpringKind};
-        let mut sim = ClothSim::new(
-            &ClothBuilder::grid(4, 4, 0.1).pin_top_corners(),
-            BurnMaterial::COTTON,
-            glam::Affine3A::IDENTITY,
-        )
-        .unwrap();
+        let mut sim = cotton_grid(4, 4);
         let grid = sim.topology.grid.unwrap();
         let [a, b] = [a, b].map(|(c, r)| grid.index(c, r) as u32);
         let spring = (0..sim.springs.len())
@@ -1012,13 +1016,8 @@ mod tests {
     /// every spring finds: the live structural and shear springs it ends, in spring order.
     #[test]
     fn in_plane_neighbours_are_the_live_in_plane_springs_a_particle_ends() {
-        use crate::sim::{ClothBuilder, ClothSim};
-        let mut sim = ClothSim::new(
-            &ClothBuilder::grid(6, 5, 0.1).pin_top_corners(),
-            BurnMaterial::COTTON,
-            glam::Affine3A::IDENTITY,
-        )
-        .unwrap();
+        use crate::sim::ClothSim;
+        let mut sim = cotton_grid(6, 5);
         let grid = sim.topology.grid.unwrap();
         let mut front = Front::default();
         front.prepare(&sim.particles, &mut sim.springs, &mut sim.topology);
