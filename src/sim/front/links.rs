@@ -8,15 +8,14 @@
 //! in spring order, next to one another. A spring [`Front::sever`](super::Front::sever) cuts
 //! leaves both ends' rows.
 
-use super::NONE;
+use super::{NONE, Rows};
 use crate::sim::springs::{SpringKind, Springs};
 
-/// Compressed rows: `start[i]..start[i + 1]` indexes `spring` and `other` for particle `i`;
-/// `other` is `NONE` where the link was cut.
+/// Each particle's row of links: the springs (in spring order, from [`Rows`]) and, beside
+/// each, the particle at its other end, `NONE` where the link was cut.
 #[derive(Clone, Debug, Default)]
 pub(super) struct InPlaneLinks {
-    start: Vec<u32>,
-    spring: Vec<u32>,
+    springs: Rows,
     other: Vec<u32>,
 }
 
@@ -31,48 +30,34 @@ impl InPlaneLinks {
             &springs.b[..count],
             &springs.kind[..count],
         );
-        let links = |s: usize| {
-            let (pa, pb) = (a[s] as usize, b[s] as usize);
-            (kind[s] != SpringKind::Bend && pa != pb && pa < n && pb < n).then_some((pa, pb))
-        };
-        self.start.clear();
-        self.start.resize(n + 1, 0);
-        for s in 0..count {
-            if let Some((pa, pb)) = links(s) {
-                self.start[pa + 1] += 1;
-                self.start[pb + 1] += 1;
+        self.springs.build(n, count, |s| {
+            let (pa, pb) = (a[s], b[s]);
+            let links = kind[s] != SpringKind::Bend && pa != pb && (pa as usize) < n;
+            if links && (pb as usize) < n {
+                [pa, pb, NONE, NONE]
+            } else {
+                [NONE; 4]
             }
-        }
-        for i in 0..n {
-            self.start[i + 1] += self.start[i];
-        }
-        let total = self.start[n] as usize;
-        self.spring.clear();
-        self.spring.resize(total, 0);
+        });
         self.other.clear();
-        self.other.resize(total, NONE);
-        // Each row filled from its end backwards, springs taken from the last: rows in spring
-        // order, and `start` back at each row's start when done.
-        for s in (0..count).rev() {
-            if let Some((pa, pb)) = links(s) {
-                for (end, other) in [(pb, pa), (pa, pb)] {
-                    self.start[end + 1] -= 1;
-                    let at = self.start[end + 1] as usize;
-                    self.spring[at] = s as u32;
-                    self.other[at] = other as u32;
-                }
+        self.other.resize(self.springs.items.len(), NONE);
+        for i in 0..n {
+            let row = self.row(i);
+            for (other, &s) in self.other[row.clone()]
+                .iter_mut()
+                .zip(&self.springs.items[row])
+            {
+                let (pa, pb) = (a[s as usize], b[s as usize]);
+                *other = if pa as usize == i { pb } else { pa };
             }
         }
-        // `start[i + 1]` now holds row `i`'s start: shift back by one.
-        self.start.copy_within(1..=n, 0);
-        self.start[n] = total as u32;
     }
 
     /// Particle `i`'s links not cut: (spring, particle at its other end).
     #[inline]
     pub(super) fn of(&self, i: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
-        let row = self.start[i] as usize..self.start[i + 1] as usize;
-        self.spring[row.clone()]
+        let row = self.row(i);
+        self.springs.items[row.clone()]
             .iter()
             .zip(&self.other[row])
             .filter(|&(_, &other)| other != NONE)
@@ -82,20 +67,24 @@ impl InPlaneLinks {
     /// Removes spring `s`'s link from the rows of `ends` (its two ends before it was cut).
     pub(super) fn cut(&mut self, s: usize, ends: [usize; 2]) {
         for end in ends {
-            if end + 1 >= self.start.len() {
+            if end + 1 >= self.springs.start.len() {
                 continue;
             }
-            let row = self.start[end] as usize..self.start[end + 1] as usize;
-            for at in row {
-                if self.spring[at] as usize == s {
+            for at in self.row(end) {
+                if self.springs.items[at] as usize == s {
                     self.other[at] = NONE;
                 }
             }
         }
     }
 
+    /// Where particle `i`'s row lies in `springs.items` and `other`.
+    fn row(&self, i: usize) -> core::ops::Range<usize> {
+        self.springs.start[i] as usize..self.springs.start[i + 1] as usize
+    }
+
     /// Heap memory held, bytes (capacity, not length).
     pub(super) fn heap_bytes(&self) -> usize {
-        (self.start.capacity() + self.spring.capacity() + self.other.capacity()) * size_of::<u32>()
+        self.springs.heap_bytes() + self.other.capacity() * size_of::<u32>()
     }
 }
