@@ -169,7 +169,14 @@ fn heat_only(sim: &mut ClothSim, steps: usize) {
             DT,
             &mut Vec::new(),
         );
-        paper_heat_step(&front, &mut sim.particles, &params, &mut workspace, DT);
+        paper_heat_step(
+            &front,
+            &sim.springs,
+            &mut sim.particles,
+            &params,
+            &mut workspace,
+            DT,
+        );
     }
 }
 

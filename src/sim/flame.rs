@@ -329,7 +329,7 @@ pub fn flame_step(
         let mut heats = false;
         if state[i] != BurnState::Intact {
             let from = flames.origin[i];
-            for (s, j) in front.in_plane_neighbours(i) {
+            for (s, j) in front.in_plane_neighbours(i, springs) {
                 if state[j] != BurnState::Intact {
                     continue;
                 }

@@ -16,13 +16,8 @@ use super::material::BurnMaterial;
 use super::particles::{BurnState, Particles};
 #[cfg(test)]
 use super::springs::SpanRule;
-#[cfg(test)]
-use super::springs::SpringKind;
-use super::springs::{NO_SPAN, SpringCoefficients, Springs};
+use super::springs::{NO_SPAN, SpringCoefficients, SpringKind, Springs};
 use super::topology::Topology;
-use links::InPlaneLinks;
-
-mod links;
 
 const NONE: u32 = u32::MAX;
 
@@ -108,8 +103,6 @@ pub struct Front {
     built_for: (usize, usize, usize),
     /// The springs each particle is in as an end or spans.
     springs_of: Rows,
-    /// Each particle's in-plane springs not cut, with the particle at the other end.
-    links: InPlaneLinks,
     /// The triangles each particle is a corner of.
     triangles_of: Rows,
     /// Particles on fire, and each particle's place in that list (`NONE` when not).
@@ -168,7 +161,6 @@ impl Front {
             + self.is_shrinking.capacity()
             + self.gone.capacity()
             + self.springs_of.heap_bytes()
-            + self.links.heap_bytes()
             + self.triangles_of.heap_bytes()
     }
 
@@ -225,7 +217,6 @@ impl Front {
             let second = if second == first { NO_SPAN } else { second };
             [springs.a[s], springs.b[s], first, second]
         });
-        self.links.build(n, springs);
         let triangles = &topology.triangles;
         self.triangles_of.build(n, triangles.len(), |t| {
             let [a, b, c] = triangles[t];
@@ -473,21 +464,14 @@ impl Front {
     /// Cuts the live springs that pass over the particles in `newly_burnt` (a bending or shear
     /// spring would otherwise hold across the gap), by each spring's
     /// [`SpanRule`](super::springs::SpanRule): each one's second end is moved to the burnt particle
-    /// it spanned, which makes it dead for every loop that checks its ends, and it leaves both
-    /// ends' [`Front::in_plane_neighbours`]. Returns how many were cut.
-    pub fn sever(
-        &mut self,
-        springs: &mut Springs,
-        state: &[BurnState],
-        newly_burnt: &[u32],
-    ) -> u32 {
+    /// it spanned, which makes it dead for every loop that checks its ends. Returns how many were
+    /// cut.
+    pub fn sever(&self, springs: &mut Springs, state: &[BurnState], newly_burnt: &[u32]) -> u32 {
         let mut cut = 0;
         for &burnt in newly_burnt {
             for &s in self.springs_of.of(burnt as usize) {
                 let s = s as usize;
                 if springs.is_live(s, state) && springs.cut_by(s, burnt, state) {
-                    self.links
-                        .cut(s, [springs.a[s] as usize, springs.b[s] as usize]);
                     springs.b[s] = burnt;
                     cut += 1;
                 }
@@ -581,12 +565,25 @@ impl Front {
         }
     }
 
-    /// The in-plane springs particle `i` ends (structural and shear; a mesh's edges), in
-    /// spring order, with the particle at their other end: as of the last
-    /// [`Front::prepare`], less those [`Front::sever`] has cut since. The other end may have
-    /// burnt.
-    pub fn in_plane_neighbours(&self, i: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.links.of(i)
+    /// The in-plane springs of particle `i` (structural and shear; a mesh's edges), with the
+    /// particle at their other end.
+    pub fn in_plane_neighbours<'a>(
+        &'a self,
+        i: usize,
+        springs: &'a Springs,
+    ) -> impl Iterator<Item = (usize, usize)> + 'a {
+        self.springs_of.of(i).iter().filter_map(move |&s| {
+            let s = s as usize;
+            if springs.kind[s] == SpringKind::Bend {
+                return None;
+            }
+            let (a, b) = (springs.a[s] as usize, springs.b[s] as usize);
+            match (a == i, b == i) {
+                (true, false) => Some((s, b)),
+                (false, true) => Some((s, a)),
+                _ => None,
+            }
+        })
     }
 }
 
@@ -1039,19 +1036,19 @@ mod tests {
         };
         let listed = |front: &Front, sim: &ClothSim, i: usize| -> Vec<(usize, usize)> {
             front
-                .in_plane_neighbours(i)
+                .in_plane_neighbours(i, &sim.springs)
                 .filter(|&(_, j)| !sim.particles.state[j].is_burnt())
                 .collect()
         };
         // Cell (1, 1)'s drawn diagonal joins (2, 1) and (1, 2); burning (1, 1) and (2, 2)
         // cuts it with both its ends intact.
         let (top_right, bottom_left) = (grid.index(2, 1), grid.index(1, 2));
-        let joined = |front: &Front| {
+        let joined = |front: &Front, sim: &ClothSim| {
             front
-                .in_plane_neighbours(top_right)
+                .in_plane_neighbours(top_right, &sim.springs)
                 .any(|(_, j)| j == bottom_left)
         };
-        assert!(joined(&front));
+        assert!(joined(&front, &sim));
         for batch in [&[(1, 1), (2, 2)][..], &[(4, 3), (3, 0), (0, 4)]] {
             let newly_burnt: Vec<u32> = batch
                 .iter()
@@ -1067,7 +1064,10 @@ mod tests {
                 }
             }
         }
-        assert!(!joined(&front), "the cut diagonal leaves its ends' rows");
+        assert!(
+            !joined(&front, &sim),
+            "the cut diagonal is no longer a link"
+        );
         assert!(!listed(&front, &sim, top_right).is_empty());
     }
 

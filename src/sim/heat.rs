@@ -34,6 +34,7 @@ use super::material::REFERENCE_SPACING;
 use super::material::{BurnMaterial, MAX_TEMPERATURE};
 use super::particles::{BurnState, Particles};
 use super::spatial_hash::SpatialHash;
+use super::springs::Springs;
 use glam::Vec3;
 
 /// The heat push's weight by the cosine of its direction with world up, piecewise linear
@@ -221,6 +222,7 @@ fn is_spent(temperature: f32, params: &HeatParams) -> bool {
 /// self-heating, to the workspace's increments.
 pub fn paper_heat_push(
     front: &Front,
+    springs: &Springs,
     particles: &Particles,
     params: &HeatParams,
     h: f32,
@@ -243,7 +245,7 @@ pub fn paper_heat_push(
         // the catch.
         let burning = h + core::mem::take(&mut workspace.owed[i]);
         let excess = (temperature[i] - params.initial_temperature).max(0.0);
-        for (_, j) in front.in_plane_neighbours(i) {
+        for (_, j) in front.in_plane_neighbours(i, springs) {
             if state[j].is_burnt() {
                 continue;
             }
@@ -373,13 +375,14 @@ pub fn proximity_heat_exchange(
 /// particles).
 pub fn paper_heat_step(
     front: &Front,
+    springs: &Springs,
     particles: &mut Particles,
     params: &HeatParams,
     workspace: &mut HeatWorkspace,
     h: f32,
 ) {
     workspace.prepare(particles.len());
-    paper_heat_push(front, particles, params, h, workspace);
+    paper_heat_push(front, springs, particles, params, h, workspace);
     proximity_heat_push(front, particles, params, h, workspace);
     let dating = Some((params.ignition_temperature, h));
     workspace.apply(&mut particles.temperature, &particles.state, dating);
@@ -456,10 +459,10 @@ mod tests {
         mass: Vec<f32>,
         fire: f32,
         with_springs: bool,
-    ) -> (crate::sim::Particles, crate::sim::Springs, Front) {
+    ) -> (crate::sim::Particles, Springs, Front) {
         let position = vec![Vec3::ZERO, Vec3::Y, Vec3::X, -Vec3::Y].into_iter();
         let position: Vec<Vec3> = position.map(|p| p * spacing).collect();
-        let mut springs = crate::sim::Springs::default();
+        let mut springs = Springs::default();
         if with_springs {
             for j in 1..4 {
                 springs.push(0, j, spacing, SpringKind::Structural);
@@ -511,11 +514,11 @@ mod tests {
 
     #[test]
     fn push_goes_four_times_harder_up_than_sideways() {
-        let (particles, _, front) = star(1.0, vec![1.0; 4], 115.6, true);
+        let (particles, springs, front) = star(1.0, vec![1.0; 4], 115.6, true);
         let params = push_params();
         let mut workspace = HeatWorkspace::default();
         workspace.prepare(4);
-        paper_heat_push(&front, &particles, &params, 0.1, &mut workspace);
+        paper_heat_push(&front, &springs, &particles, &params, 0.1, &mut workspace);
         let delta = &workspace.delta;
         // Excess 100 °C × 0.5/s × 0.1 s = 5 °C sideways.
         assert!((delta[2] - 5.0).abs() < 1e-4);
@@ -540,11 +543,11 @@ mod tests {
         };
         for (fire, pushes) in [(499.0, true), (501.0, false)] {
             // Scanned on fire at 115.6 °C, then made hotter.
-            let (mut particles, _, front) = star(1.0, vec![1.0; 4], 115.6, true);
+            let (mut particles, springs, front) = star(1.0, vec![1.0; 4], 115.6, true);
             particles.temperature[0] = fire;
             let mut workspace = HeatWorkspace::default();
             workspace.prepare(4);
-            paper_heat_push(&front, &particles, &params, 0.1, &mut workspace);
+            paper_heat_push(&front, &springs, &particles, &params, 0.1, &mut workspace);
             proximity_heat_push(&front, &particles, &params, 0.1, &mut workspace);
             let pushed = workspace.delta.iter().any(|&d| d != 0.0);
             assert_eq!(pushed, pushes, "at {fire} °C (spent above 500)");
@@ -568,7 +571,7 @@ mod tests {
         assert!((workspace.owed[1] - 2.0 / 3.0 * h).abs() < 1e-6);
         assert_eq!(workspace.owed[2], 0.0, "no catch, nothing owed");
         // The hub's push is unchanged (it caught long ago) and the owed time is spent once.
-        paper_heat_push(&front, &particles, &params, h, &mut workspace);
+        paper_heat_push(&front, &springs, &particles, &params, h, &mut workspace);
         assert!((workspace.delta[2] - 5.0).abs() < 1e-4);
         assert_eq!(workspace.owed[0], 0.0);
         // The next step: particle 1 (now 110 °C) is on fire.
@@ -587,7 +590,7 @@ mod tests {
         );
         assert_eq!(caught.ignited(), &[0, 1]);
         let before = workspace.delta[0];
-        paper_heat_push(&caught, &particles, &params, h, &mut workspace);
+        paper_heat_push(&caught, &springs, &particles, &params, h, &mut workspace);
         // Particle 1 at 110 °C, excess 94.4 °C, pushes down onto the hub (weight below 1)
         // for h + 2h/3.
         let pushed = workspace.delta[0] - before;

@@ -243,7 +243,7 @@ impl ClothMut<'_> {
         } = &mut *self.workspace;
         let params = &derived.heat;
         match &params.physical {
-            None => paper_heat_step(front, particles, params, heat, h),
+            None => paper_heat_step(front, self.springs, particles, params, heat, h),
             Some(physical) => {
                 // Nothing to conduct until something has been warm.
                 if front.any_warm() {
